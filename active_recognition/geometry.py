@@ -1,0 +1,160 @@
+"""The viewing sphere: views (theta, phi) <-> camera frames, pixel rays, initial views, paths.
+
+Conventions (METHOD.md, the paper's equations):
+- camera position X = R (sin t cos p, sin t sin p, cos t);
+- the camera frame of view (t, p) is Rz(p) @ Ry(t) applied to the frame at t = 0, where the
+  camera sits at (0, 0, R), looks down -Z and has its up direction along +X;
+- image rows run against "up", image columns along "right" = forward x up (-Y at t = 0), so the
+  ROS optical frame (x right, y down, z forward; REP 103) is (right, -up, forward).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+CUBE_RADIUS = math.sqrt(3.0) / 2.0  # bounding-sphere radius of [-0.5, 0.5]^3
+
+
+def rot_y(a):
+    c, s = np.cos(a), np.sin(a)
+    z, o = np.zeros_like(c), np.ones_like(c)
+    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1),
+                     np.stack([-s, z, c], -1)], -2)
+
+
+def rot_z(a):
+    c, s = np.cos(a), np.sin(a)
+    z, o = np.zeros_like(c), np.ones_like(c)
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1),
+                     np.stack([z, z, o], -1)], -2)
+
+
+def view_rotation(theta, phi):
+    """Rz(phi) @ Ry(theta), shape (..., 3, 3): maps the t = 0 camera frame to view (t, p)."""
+    return rot_z(np.asarray(phi, dtype=np.float64)) @ rot_y(np.asarray(theta, dtype=np.float64))
+
+
+def camera_position(theta, phi, radius=1.0):
+    """(..., 3) Cartesian camera position of view (theta, phi) on a sphere of `radius`."""
+    t, p = np.asarray(theta, dtype=np.float64), np.asarray(phi, dtype=np.float64)
+    return radius * np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
+
+
+def camera_axes(theta, phi):
+    """(forward, up, right) unit vectors, each (..., 3), of the camera at view (theta, phi)."""
+    rot = view_rotation(theta, phi)
+    return -rot[..., :, 2], rot[..., :, 0], -rot[..., :, 1]
+
+
+def optical_rotation(theta, phi):
+    """(..., 3, 3) rotation whose columns are the ROS optical axes (x right, y down, z forward)."""
+    fwd, up, right = camera_axes(theta, phi)
+    return np.stack([right, -up, fwd], -1)
+
+
+def matrix_to_quaternion(m):
+    """Rotation matrix (3, 3) -> quaternion (x, y, z, w), ROS order, w >= 0."""
+    m = np.asarray(m, dtype=np.float64)
+    tr = np.trace(m)
+    if tr > 0:
+        s = 2.0 * math.sqrt(tr + 1.0)
+        q = [(m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s, s / 4]
+    else:
+        i = int(np.argmax(np.diag(m)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * math.sqrt(1.0 + m[i, i] - m[j, j] - m[k, k])
+        q = [0.0, 0.0, 0.0, (m[k, j] - m[j, k]) / s]
+        q[i] = s / 4
+        q[j] = (m[j, i] + m[i, j]) / s
+        q[k] = (m[k, i] + m[i, k]) / s
+    q = np.array(q)
+    return q if q[3] >= 0 else -q
+
+
+def quaternion_to_matrix(q):
+    """Unit quaternion (x, y, z, w) -> rotation matrix (3, 3)."""
+    x, y, z, w = np.asarray(q, dtype=np.float64)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def camera_pose(theta, phi, radius=1.0):
+    """(position (3,), quaternion (x, y, z, w)) of the optical frame at view (theta, phi)."""
+    return camera_position(theta, phi, radius), matrix_to_quaternion(optical_rotation(theta, phi))
+
+
+def wrap_view(theta, phi):
+    """Keep theta in [0, pi] and phi in [-pi, pi): theta past a pole reflects and phi turns by pi.
+
+    The camera position is unchanged by the wrap (the image turns by 180 degrees about its axis).
+    Works on floats, numpy arrays and torch tensors (differentiably: a reflection flips the sign
+    of d theta).
+    """
+    two_pi = 2 * math.pi
+    t = theta % two_pi
+    flip = t > math.pi
+    if hasattr(theta, "detach"):  # torch
+        import torch
+        t = torch.where(flip, two_pi - t, t)
+        p = phi + flip.to(phi.dtype) * math.pi
+    else:
+        t = np.where(flip, two_pi - t, t)
+        p = np.asarray(phi) + np.where(flip, math.pi, 0.0)
+    p = (p + math.pi) % two_pi - math.pi
+    if np.ndim(t) == 0 and not hasattr(t, "detach"):
+        return float(t), float(p)
+    return t, p
+
+
+def view_from_position(position):
+    """Cartesian camera position (3,) -> (radius, theta, phi)."""
+    x, y, z = np.asarray(position, dtype=np.float64)
+    r = math.sqrt(x * x + y * y + z * z)
+    if r == 0:
+        raise ValueError("a camera at the object's centre has no view direction")
+    return r, math.acos(max(-1.0, min(1.0, z / r))), math.atan2(y, x)
+
+
+def default_fov(radius):
+    """Field of view (radians) holding the bounding sphere of [-0.5, 0.5]^3 from `radius`.
+
+    Capped at 120 degrees; inside that sphere (radius < 0.87) the shape is clipped, as in the paper.
+    """
+    return 2 * math.asin(min(1.0, CUBE_RADIUS / radius, math.sin(math.radians(60))))
+
+
+def pixel_grid(height, width, fov, focal=1.0):
+    """Projection-plane coordinates of the pixel centres: x along up, y along right, (H, W) each.
+
+    x = (u0 - u) dx for row u and y = (v - v0) dy for column v, the principal point at the image
+    centre; the horizontal field of view `fov` spans the image width.
+    """
+    d = 2 * focal * math.tan(fov / 2) / width
+    u0, v0 = (height - 1) / 2, (width - 1) / 2
+    rows, cols = np.meshgrid(np.arange(height), np.arange(width), indexing="ij")
+    return (u0 - rows) * d, (cols - v0) * d
+
+
+def fibonacci_views(n=50):
+    """n views evenly spread on the sphere (golden-angle spiral), (n, 2) as (theta, phi)."""
+    i = np.arange(n) + 0.5
+    theta = np.arccos(1 - 2 * i / n)
+    phi = (i * math.pi * (3 - math.sqrt(5))) % (2 * math.pi) - math.pi
+    return np.stack([theta, phi], -1)
+
+
+def straight_path(theta, phi, steps, step_angle=math.radians(30)):
+    """Views along the great circle through (theta, phi) heading along +phi at the equator.
+
+    Returns (steps, 2); the first row is the starting view. A camera walks its own "right" axis,
+    so the path is a straight line on the sphere whatever the starting view (poles included).
+    """
+    pos = camera_position(theta, phi)
+    _, _, right = camera_axes(theta, phi)
+    angles = np.arange(steps) * step_angle
+    pts = np.cos(angles)[:, None] * pos + np.sin(angles)[:, None] * right
+    views = [view_from_position(p)[1:] for p in pts]
+    return np.array(views)

@@ -1,0 +1,53 @@
+"""Pictures for people: depth-image grids (PNG) written atomically."""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+
+def atomic_path(path):
+    """A temp file beside `path`; rename it onto `path` once written (see `replace`)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
+    os.close(fd)
+    return Path(tmp)
+
+
+def save_figure(fig, path, **kwargs):
+    """Save a matplotlib figure as PNG with write-then-rename."""
+    tmp = atomic_path(path)
+    try:
+        fig.savefig(tmp, format="png", **kwargs)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def depth_grid(images, path, titles=None, columns=None, row_labels=None):
+    """Write a grid of normalised depth images (N, H, W) in [0, 255] as a PNG."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    images = np.asarray(images)
+    n = len(images)
+    columns = columns or int(np.ceil(np.sqrt(n)))
+    rows = int(np.ceil(n / columns))
+    fig, axes = plt.subplots(rows, columns, figsize=(1.6 * columns, 1.7 * rows), squeeze=False)
+    for i, ax in enumerate(axes.flat):
+        ax.set_axis_off()
+        if i < n:
+            ax.imshow(images[i], cmap="viridis", vmin=0, vmax=255)
+            if titles is not None:
+                ax.set_title(titles[i], fontsize=7)
+    if row_labels is not None:
+        for r, label in enumerate(row_labels):
+            axes[r, 0].text(-0.1, 0.5, label, transform=axes[r, 0].transAxes, ha="right",
+                            va="center", fontsize=8)
+    fig.tight_layout()
+    save_figure(fig, path, dpi=100)
+    plt.close(fig)

@@ -1,0 +1,37 @@
+from glob import glob
+
+from setuptools import find_packages, setup
+
+package_name = "active_recognition"
+ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry-msgs",
+       "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs"]
+
+setup(
+    name=package_name,
+    version="0.1.0",
+    packages=find_packages(exclude=["test", "test.*", "benchmarks"]),
+    package_data={package_name: ["checkpoints/*.pt"]},
+    data_files=[
+        ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
+        ("share/" + package_name, ["package.xml"]),
+        ("share/" + package_name + "/config", glob("config/*.yaml")),
+    ],
+    python_requires=">=3.10",
+    # torch: install the CPU build first on CPU machines (README), or an unpinned torch pulls CUDA
+    install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
+                      "tqdm", "matplotlib", "pyyaml"],
+    # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
+    extras_require={"ros": ros, "test": ["pytest>=7"]},
+    zip_safe=True,
+    maintainer="active_recognition maintainers",
+    maintainer_email="maintainers@active-recognition.invalid",
+    description="Recurrent 3D attentional network for active object recognition, with ROS 2 nodes",
+    license="Apache-2.0",
+    entry_points={
+        "console_scripts": [
+            "active-recognition = active_recognition.cli:main",
+            "recognizer = active_recognition.nodes.recognizer:main",
+            "simulated_camera = active_recognition.nodes.simulated_camera:main",
+        ],
+    },
+)
