@@ -45,6 +45,63 @@ def add_render(sub):
     p.set_defaults(func=cmd_render)
 
 
+def cmd_dataset(args):
+    import numpy as np
+
+    from .datasets import default_cache_dir, open_dataset
+    from .depth_layer import DepthCamera
+    from .visualize import depth_grid
+
+    cache = None if args.no_cache else (args.cache_dir or default_cache_dir())
+    splits = {s: open_dataset(args.name, args.root, s, cache_dir=cache) for s in ("train", "test")}
+    classes = splits["train"].classes
+    width = max(len(c) for c in classes)
+    print(f"{args.name}: {len(classes)} classes")
+    print(f"{'class':<{width}}  {'train':>6}  {'test':>6}")
+    counts = {s: ds.class_counts() for s, ds in splits.items()}
+    for i, c in enumerate(classes):
+        print(f"{c:<{width}}  {counts['train'][i]:>6}  {counts['test'][i]:>6}")
+    print(f"{'total':<{width}}  {len(splits['train']):>6}  {len(splits['test']):>6}")
+    skipped = splits["train"].skipped + splits["test"].skipped
+    print(f"skipped {len(skipped)} file(s)")
+    for path, reason in skipped:
+        print(f"  {path}: {reason}")
+    if args.contact_sheet:
+        ds, rng = splits["test"], np.random.default_rng(args.seed)
+        views = geometry_views(args.views_per_object)
+        images, labels = [], []
+        for label, c in enumerate(classes):
+            idx = np.flatnonzero(ds.labels() == label)
+            for i in rng.choice(idx, min(args.objects_per_class, len(idx)), replace=False):
+                images.extend(DepthCamera(*ds.mesh(i)).render(views))
+            labels.append(c)
+        depth_grid(np.array(images), args.contact_sheet,
+                   columns=args.objects_per_class * len(views), row_labels=labels)
+        print(f"wrote {args.contact_sheet}")
+
+
+def geometry_views(n):
+    """A few readable views: the first n of front, side, top, below, three-quarter."""
+    import numpy as np
+    views = [(1.57, -1.57), (1.57, 0.0), (0.35, -1.57), (2.6, -1.2), (1.0, -0.8)]
+    return np.array(views[:max(1, min(n, len(views)))])
+
+
+def add_dataset(sub):
+    from .datasets import NAMES
+    p = sub.add_parser("dataset", help="index a dataset: class counts, skipped files, contact sheet")
+    p.add_argument("--name", choices=NAMES, default="procedural", help="dataset layout")
+    p.add_argument("--root", default=None, help="dataset root folder (not for procedural)")
+    p.add_argument("--cache-dir", default=None,
+                   help="where parsed meshes are cached (default ~/.cache/active_recognition)")
+    p.add_argument("--no-cache", action="store_true", help="do not read or write the cache")
+    p.add_argument("--contact-sheet", default=None, help="write a PNG grid of test-split depth images")
+    p.add_argument("--objects-per-class", type=int, default=2, help="objects per class on the sheet")
+    p.add_argument("--views-per-object", type=int, default=3, help="views per object on the sheet")
+    p.add_argument("--seed", type=int, default=0, help="which objects go on the sheet")
+    p.set_defaults(func=cmd_dataset)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="active-recognition", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -53,7 +110,7 @@ def build_parser():
     return parser
 
 
-ADDERS = [add_render]
+ADDERS = [add_render, add_dataset]
 
 
 def main(argv=None):

@@ -1,0 +1,24 @@
+"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, and the embedded procedural benchmark."""
+from __future__ import annotations
+
+from .base import ShapeDataset, default_cache_dir
+from .folder import folder
+from .modelnet import modelnet
+from .procedural import procedural
+from .shapenet import shapenet
+
+NAMES = ("procedural", "modelnet", "shapenet", "folder")
+
+
+def open_dataset(name, root=None, split="train", cache_dir=None, validate=True, **kwargs):
+    """Open a split of a dataset by name; file datasets are validated (bad files skipped)."""
+    if name == "procedural":
+        return procedural(split, cache_dir=cache_dir, **kwargs)
+    loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
+    if name not in loaders:
+        raise ValueError(f"dataset must be one of {NAMES}, got {name!r}")
+    ds = loaders[name](root, split, cache_dir=cache_dir, **kwargs)
+    return ds.validate() if validate else ds
+
+
+__all__ = ["ShapeDataset", "open_dataset", "default_cache_dir", "NAMES"]

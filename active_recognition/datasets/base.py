@@ -1,0 +1,104 @@
+"""What every dataset is: a list of (source, label) per split, meshes loaded once and cached."""
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..meshes import MeshError, load_mesh
+
+SPLITS = ("train", "test")
+
+
+def default_cache_dir():
+    return Path(os.environ.get("ACTIVE_RECOGNITION_CACHE",
+                               Path.home() / ".cache" / "active_recognition"))
+
+
+def stable_fraction(key: str) -> float:
+    """A deterministic number in [0, 1) from a string (for splits that must not change)."""
+    return int(hashlib.sha1(key.encode()).hexdigest()[:8], 16) / 2 ** 32
+
+
+def save_npz_atomic(path: Path, **arrays):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    with open(tmp, "wb") as f:
+        np.savez(f, **arrays)
+    os.replace(tmp, path)
+
+
+@dataclass
+class ShapeDataset:
+    """Shapes of one split. `items` are (source, label); `mesh(i)` gives normalised arrays."""
+    name: str
+    classes: list
+    split: str
+    items: list
+    skipped: list = field(default_factory=list)  # (source, reason), each reported once
+    cache_dir: Path | None = None
+    _meshes: dict = field(default_factory=dict, repr=False)
+
+    def __len__(self):
+        return len(self.items)
+
+    def labels(self):
+        return np.array([label for _, label in self.items], dtype=np.int64)
+
+    def class_counts(self):
+        return np.bincount(self.labels(), minlength=len(self.classes))
+
+    def mesh(self, i):
+        """(vertices (V, 3) float32 in [-0.5, 0.5]^3, faces (F, 3) int32) of item i."""
+        if i not in self._meshes:
+            self._meshes[i] = self._load(self.items[i][0])
+        return self._meshes[i]
+
+    def _load(self, source):
+        path = Path(source)
+        if self.cache_dir is None:
+            return load_mesh(path)
+        stat = path.stat()
+        key = hashlib.sha1(f"{path.resolve()}|{stat.st_size}|{stat.st_mtime_ns}".encode())
+        cached = self.cache_dir / "meshes" / f"{key.hexdigest()}.npz"
+        if cached.exists():
+            with np.load(cached) as z:
+                return z["vertices"], z["faces"]
+        verts, faces = load_mesh(path)
+        save_npz_atomic(cached, vertices=verts, faces=faces)
+        return verts, faces
+
+    def validate(self, progress=True):
+        """Load every mesh once; drop and record the unusable ones. Returns self."""
+        try:
+            from tqdm import tqdm
+            it = tqdm(range(len(self.items)), desc=f"{self.name}/{self.split}", disable=not progress,
+                      file=sys.stderr)
+        except ImportError:  # pragma: no cover
+            it = range(len(self.items))
+        good = []
+        for i in it:
+            try:
+                self.mesh(i)
+                good.append(i)
+            except (MeshError, OSError) as e:
+                self.skipped.append((str(self.items[i][0]), getattr(e, "reason", str(e))))
+        self.items = [self.items[i] for i in good]
+        self._meshes = {new: self._meshes[old] for new, old in enumerate(good)}
+        return self
+
+
+def check_split(split):
+    if split not in SPLITS:
+        raise ValueError(f"split must be one of {SPLITS}, got {split!r}")
+
+
+def check_root(root, layout):
+    root = Path(root) if root is not None else None
+    if root is None or not root.is_dir():
+        raise ValueError(f"{layout} dataset root {root} is not a directory")
+    return root

@@ -1,0 +1,21 @@
+"""A plain folder: root/<class>/*.<ext> for any mesh format, deterministic split."""
+from __future__ import annotations
+
+from ..meshes import SUFFIXES
+from .base import ShapeDataset, check_root, check_split, stable_fraction
+
+
+def folder(root, split="train", cache_dir=None, test_fraction=0.2):
+    check_split(split)
+    root = check_root(root, "folder")
+    classes = sorted(p.name for p in root.iterdir() if p.is_dir())
+    items = []
+    for label, c in enumerate(classes):
+        for p in sorted((root / c).iterdir()):
+            if p.suffix.lower() in SUFFIXES:
+                in_test = stable_fraction(f"{c}/{p.name}") < test_fraction
+                if in_test == (split == "test"):
+                    items.append((p, label))
+    if not classes:
+        raise ValueError(f"folder root {root} has no class folders")
+    return ShapeDataset("folder", classes, split, items, cache_dir=cache_dir)

@@ -1,0 +1,39 @@
+"""ShapeNetCore v2: root/<synset>/<model>/models/model_normalized.obj, deterministic 80/20 split."""
+from __future__ import annotations
+
+import json
+
+from .base import ShapeDataset, check_root, check_split, stable_fraction
+
+
+def synset_names(root):
+    """synset id -> first name from taxonomy.json, where present."""
+    path = root / "taxonomy.json"
+    if not path.is_file():
+        return {}
+    try:
+        entries = json.loads(path.read_text())
+        return {e["synsetId"]: e["name"].split(",")[0].strip() for e in entries}
+    except (ValueError, KeyError, TypeError) as e:
+        raise ValueError(f"{path}: not a ShapeNet taxonomy ({e})") from None
+
+
+def shapenet(root, split="train", cache_dir=None, test_fraction=0.2):
+    check_split(split)
+    root = check_root(root, "shapenet")
+    names = synset_names(root)
+    synsets = sorted(p.name for p in root.iterdir() if p.is_dir())
+    items, classes = [], []
+    for synset in synsets:
+        models = sorted((root / synset).glob("*/models/model_normalized.obj"))
+        if not models:
+            continue
+        label = len(classes)
+        classes.append(names.get(synset, synset))
+        for m in models:
+            in_test = stable_fraction(f"{synset}/{m.parent.parent.name}") < test_fraction
+            if in_test == (split == "test"):
+                items.append((m, label))
+    if not classes:
+        raise ValueError(f"shapenet root {root} has no <synset>/<model>/models/model_normalized.obj")
+    return ShapeDataset("shapenet", classes, split, items, cache_dir=cache_dir)

@@ -1,0 +1,141 @@
+import json
+
+import numpy as np
+import pytest
+import trimesh
+
+from active_recognition.datasets import open_dataset, procedural
+from active_recognition.datasets.procedural import CLASSES, make_shape
+from active_recognition.depth_layer import CameraConfig, DepthCamera
+from active_recognition.meshes import MeshError, load_mesh
+
+CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+
+
+def write_off(path, verts, faces, fused=False):
+    head = f"OFF{len(verts)} {len(faces)} 0\n" if fused else f"OFF\n{len(verts)} {len(faces)} 0\n"
+    body = "".join(f"{x} {y} {z}\n" for x, y, z in verts)
+    body += "".join(f"{len(f)} {' '.join(map(str, f))}\n" for f in faces)
+    path.write_text(head + body)
+    return path
+
+
+def test_fused_header_and_quads_are_triangulated(tmp_path):
+    v, f = load_mesh(write_off(tmp_path / "a.off", CUBE_V, CUBE_QUADS, fused=True))
+    assert f.shape == (12, 3) and v.shape == (8, 3)
+    mesh = trimesh.Trimesh(v, f)
+    assert mesh.is_watertight and abs(mesh.area - 6.0) < 1e-6  # unit cube, quads split in two
+
+
+def test_offset_and_scaled_mesh_is_normalised(tmp_path):
+    far = np.array(CUBE_V, float) * [1650, 300, 20] + [5000, -1200, 77]
+    v, _ = load_mesh(write_off(tmp_path / "far.off", far, CUBE_QUADS))
+    np.testing.assert_allclose(v.min(0), [-0.5, -300 / 3300, -20 / 3300], atol=1e-6)
+    np.testing.assert_allclose(v.max(0), [0.5, 300 / 3300, 20 / 3300], atol=1e-6)
+    m = trimesh.creation.icosphere(2, radius=40.0)
+    m.apply_translation([100, 200, 300])
+    for ext in ("obj", "ply", "stl", "glb"):
+        m.export(tmp_path / f"s.{ext}")
+        v, f = load_mesh(tmp_path / f"s.{ext}")
+        np.testing.assert_allclose(v.max(0) - v.min(0), [1, 1, 1], atol=1e-5)
+        np.testing.assert_allclose(v.max(0) + v.min(0), 0, atol=1e-5)
+
+
+@pytest.mark.parametrize("name,content,reason", [
+    ("empty.off", "", "empty"),
+    ("trunc.off", "OFF\n8 6 0\n0 0 0\n1 0 0\n", "truncated"),
+    ("garbage.off", "\x00\x01hello", "OFF"),
+    ("garbage.obj", "this is not a mesh at all", ""),
+    ("flat.off", "OFF\n3 1 0\n0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n", "zero"),
+    ("mesh.txt", "whatever", "unsupported"),
+])
+def test_bad_files_raise_one_clear_error(tmp_path, name, content, reason):
+    path = tmp_path / name
+    path.write_text(content)
+    with pytest.raises(MeshError) as e:
+        load_mesh(path)
+    assert name in str(e.value) and reason.lower() in str(e.value).lower()
+
+
+def test_modelnet_tree_with_a_bad_file(tmp_path):
+    for c in ("chair", "table"):
+        for split, n in (("train", 3), ("test", 1)):
+            d = tmp_path / c / split
+            d.mkdir(parents=True)
+            for i in range(n):
+                write_off(d / f"{c}_{i}.off", np.array(CUBE_V) * (i + 1), CUBE_QUADS, fused=i == 0)
+    (tmp_path / "table" / "train" / "table_bad.off").write_text("OFF\n8 6 0\n1 2")
+    train = open_dataset("modelnet", tmp_path, "train", cache_dir=tmp_path / "cache")
+    test = open_dataset("modelnet", tmp_path, "test")
+    assert train.classes == ["chair", "table"] and list(train.class_counts()) == [3, 3]
+    assert list(test.class_counts()) == [1, 1]
+    assert len(train.skipped) == 1 and train.skipped[0][0].endswith("table_bad.off")
+    # a second open reads the cache, with the same arrays
+    again = open_dataset("modelnet", tmp_path, "train", cache_dir=tmp_path / "cache")
+    assert len(list((tmp_path / "cache" / "meshes").glob("*.npz"))) == 6
+    for i in range(len(again)):
+        np.testing.assert_array_equal(again.mesh(i)[0], train.mesh(i)[0])
+
+
+def test_shapenet_tree_uses_taxonomy_and_a_stable_split(tmp_path):
+    box = trimesh.creation.box()
+    for synset in ("03001627", "04379243"):
+        for i in range(10):
+            d = tmp_path / synset / f"model{i:02d}" / "models"
+            d.mkdir(parents=True)
+            box.export(d / "model_normalized.obj")
+    (tmp_path / "taxonomy.json").write_text(json.dumps(
+        [{"synsetId": "03001627", "name": "chair,seat"}, {"synsetId": "04379243", "name": "table"}]))
+    train, test = (open_dataset("shapenet", tmp_path, s) for s in ("train", "test"))
+    assert train.classes == ["chair", "table"]
+    assert len(train) + len(test) == 20 and len(test) > 0
+    assert not {str(p) for p, _ in train.items} & {str(p) for p, _ in test.items}
+    again = open_dataset("shapenet", tmp_path, "test")
+    assert [str(p) for p, _ in again.items] == [str(p) for p, _ in test.items]
+
+
+def test_folder_layout(tmp_path):
+    for c in ("a", "b"):
+        (tmp_path / c).mkdir()
+        for i in range(6):
+            trimesh.creation.box(extents=(1, i + 1, 1)).export(tmp_path / c / f"{i}.stl")
+        (tmp_path / c / "notes.txt").write_text("not a mesh")
+    train, test = (open_dataset("folder", tmp_path, s) for s in ("train", "test"))
+    assert train.classes == ["a", "b"] and len(train) + len(test) == 12
+
+
+def test_unknown_dataset_and_missing_root_are_clear_errors(tmp_path):
+    with pytest.raises(ValueError, match="dataset must be one of"):
+        open_dataset("imagenet")
+    with pytest.raises(ValueError, match="not a directory"):
+        open_dataset("modelnet", tmp_path / "nope")
+
+
+def test_procedural_is_deterministic_and_seeds_differ():
+    a, b = make_shape(3, 42), make_shape(3, 42)
+    np.testing.assert_array_equal(a[0], b[0])
+    c = make_shape(3, 43)
+    assert a[0].shape != c[0].shape or not np.allclose(a[0], c[0])
+
+
+def test_procedural_classes_render_with_hits_from_every_side():
+    cfg = CameraConfig(32, 32)
+    views = np.array([[0.2, 0.0], [1.57, 0.0], [1.57, 1.57], [2.9, 0.0]])
+    for label in range(len(CLASSES)):
+        for seed in range(3):
+            v, f = make_shape(label, seed)
+            assert np.all(v >= -0.5 - 1e-6) and np.all(v <= 0.5 + 1e-6)
+            assert np.isclose((v.max(0) - v.min(0)).max(), 1.0, atol=1e-6)
+            depth = DepthCamera(v, f, cfg).render(views)
+            assert np.all((depth < 255).sum(axis=(1, 2)) >= 5), CLASSES[label]  # a side-on monitor is thin
+
+
+def test_procedural_split_cache_round_trips(tmp_path):
+    ds = procedural("test", cache_dir=tmp_path, per_class=2)
+    assert len(ds) == 20 and list(ds.class_counts()) == [2] * 10
+    again = procedural("test", cache_dir=tmp_path, per_class=2)
+    for i in range(20):
+        np.testing.assert_array_equal(ds.mesh(i)[1], again.mesh(i)[1])
+    train = procedural("train", per_class=2)
+    assert not {p for p, _ in train.items} & {p for p, _ in ds.items}
