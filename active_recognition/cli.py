@@ -102,6 +102,72 @@ def add_dataset(sub):
     p.set_defaults(func=cmd_dataset)
 
 
+def cmd_train(args):
+    import dataclasses
+
+    import yaml
+
+    from .train import TrainConfig, train
+
+    values = {}
+    if args.config:
+        with open(args.config) as f:
+            values = yaml.safe_load(f) or {}
+        if not isinstance(values, dict):
+            raise ValueError(f"{args.config}: a training preset must be a mapping of options")
+    fields = {f.name for f in dataclasses.fields(TrainConfig)}
+    unknown = set(values) - fields
+    if unknown:
+        raise ValueError(f"{args.config}: unknown option(s) {sorted(unknown)}")
+    for name in fields:  # flags given on the command line win over the preset
+        flag = getattr(args, name, None)
+        if flag is not None and flag is not False:
+            values[name] = flag
+    model = dict(values.get("model") or {})
+    for key in ("hidden_size", "encoder", "max_step", "radius"):
+        if getattr(args, key) is not None:
+            model[key] = getattr(args, key)
+    values["model"] = model
+    if args.device:
+        import os
+        os.environ["AR_DEVICE"] = args.device
+    train(TrainConfig(**values))
+    print(f"checkpoints in {values.get('out', TrainConfig.out)}: last.pt (resumable), final.pt")
+
+
+def add_train(sub):
+    from .datasets import NAMES
+    p = sub.add_parser("train", help="pre-train the classifier and train the model end to end")
+    p.add_argument("--config", help="YAML preset of these options (flags override it)")
+    p.add_argument("--dataset", choices=NAMES, help="dataset layout (default procedural)")
+    p.add_argument("--root", help="dataset root folder")
+    p.add_argument("--out", help="run folder for checkpoints and metrics.csv")
+    p.add_argument("--stage", choices=("pretrain", "joint", "all"), help="which stage(s) to run")
+    p.add_argument("--policy", choices=("learned", "reinforce"), help="how the view head learns")
+    p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=int, help="stage 1 epochs")
+    p.add_argument("--joint-epochs", dest="joint_epochs", type=int, help="stage 2 epochs")
+    p.add_argument("--batch-size", dest="batch_size", type=int, help="shapes per batch")
+    p.add_argument("--steps", type=int, help="views per training episode (default 10)")
+    p.add_argument("--lr-pretrain", dest="lr_pretrain", type=float, help="stage 1 learning rate")
+    p.add_argument("--lr-joint", dest="lr_joint", type=float, help="stage 2 learning rate")
+    p.add_argument("--view-gradient", dest="view_gradient", choices=("paper", "surface"),
+                   help="depth-layer backward rule")
+    p.add_argument("--gradient-reduction", dest="gradient_reduction", choices=("mean", "sum"),
+                   help="how per-pixel view gradients are reduced")
+    p.add_argument("--eval-shapes", dest="eval_shapes", type=int, help="test shapes scored per epoch")
+    p.add_argument("--checkpoint-every", dest="checkpoint_every", type=int,
+                   help="write last.pt every N batches")
+    p.add_argument("--max-shapes", dest="max_shapes", type=int, help="train on a seeded subset")
+    p.add_argument("--seed", type=int, help="seed of every random choice")
+    p.add_argument("--device", help="cpu or cuda")
+    p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
+    p.add_argument("--hidden-size", dest="hidden_size", type=int, help="RNN hidden size (256)")
+    p.add_argument("--encoder", choices=("compact", "alexnet"), help="Conv2D encoder")
+    p.add_argument("--max-step", dest="max_step", type=float, help="view increment bound, radians")
+    p.add_argument("--radius", type=float, help="viewing-sphere radius R")
+    p.set_defaults(func=cmd_train)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="active-recognition", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -110,7 +176,7 @@ def build_parser():
     return parser
 
 
-ADDERS = [add_render, add_dataset]
+ADDERS = [add_render, add_dataset, add_train]
 
 
 def main(argv=None):

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import torch
-from embreex import rtcore_scene
+from embreex import rtcore, rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
 from . import geometry
@@ -23,6 +23,8 @@ from . import geometry
 MISS = 255.0
 GRADIENT_RULES = ("paper", "surface")
 _POOL = ThreadPoolExecutor(max_workers=2)  # embree releases the GIL: two cores, two traces
+# One embree device for every scene: a device per scene crashes after a few thousand meshes.
+_DEVICE = rtcore.EmbreeDevice()
 
 
 @dataclass(frozen=True)
@@ -84,7 +86,7 @@ class DepthCamera:
         if len(faces) == 0 or faces.min() < 0 or faces.max() >= len(vertices):
             raise ValueError("mesh has no faces or face indices outside its vertex list")
         self.config = config
-        self.scene = rtcore_scene.EmbreeScene()
+        self.scene = rtcore_scene.EmbreeScene(_DEVICE)
         TriangleMesh(self.scene, vertices, faces)
         x, y = geometry.pixel_grid(config.height, config.width, config.fov_rad, config.focal)
         # ray directions in the t = 0 frame: forward -Z, up +X, right -Y

@@ -176,3 +176,10 @@ def test_gradient_flows_to_a_parameter_upstream_of_the_view():
         render_views(vv, [cam], rule="surface").mean().backward()
         g.append(vv.grad[0])
     torch.testing.assert_close(a.grad, (g[0] + 2 * g[1]) / 2)
+
+
+def test_thousands_of_cameras_share_one_embree_device():
+    # one embree device per scene used to crash after a few thousand meshes (a training set)
+    box = trimesh.creation.box(extents=(0.5, 0.5, 0.5))
+    cams = [DepthCamera.from_mesh(box, CameraConfig(9, 9)) for _ in range(3000)]
+    assert (cams[-1].render((0.0, 0.0)) < 255).any()

@@ -87,8 +87,15 @@ class ShapeDataset:
                 good.append(i)
             except (MeshError, OSError) as e:
                 self.skipped.append((str(self.items[i][0]), getattr(e, "reason", str(e))))
-        self.items = [self.items[i] for i in good]
-        self._meshes = {new: self._meshes[old] for new, old in enumerate(good)}
+        self.keep(good)
+        return self
+
+    def keep(self, indices):
+        """Keep only the items at `indices` (in that order), with their loaded meshes."""
+        indices = [int(i) for i in indices]
+        self._meshes = {new: self._meshes[old] for new, old in enumerate(indices)
+                        if old in self._meshes}
+        self.items = [self.items[i] for i in indices]
         return self
 
 

@@ -252,9 +252,9 @@ def procedural(split="train", cache_dir=None, seed=0, per_class=None):
         path = Path(cache_dir) / "procedural" / f"v{VERSION}-s{seed}-{split}-{per_class}.npz"
     if path is not None and path.exists():
         with np.load(path) as z:
-            vo, fo = z["vertex_offsets"], z["face_offsets"]
-            for i in range(len(items)):
-                ds._meshes[i] = (z["vertices"][vo[i]:vo[i + 1]], z["faces"][fo[i]:fo[i + 1]])
+            v, f, vo, fo = (z[k] for k in ("vertices", "faces", "vertex_offsets", "face_offsets"))
+        for i in range(len(items)):
+            ds._meshes[i] = (v[vo[i]:vo[i + 1]], f[fo[i]:fo[i + 1]])
         return ds
     meshes = [make_shape(label, s) for label, s in specs]
     ds._meshes = dict(enumerate(meshes))

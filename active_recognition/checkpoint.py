@@ -1,0 +1,85 @@
+"""Checkpoints as plain dicts, written atomically and loaded with weights_only=True.
+
+{'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}
+"""
+from __future__ import annotations
+
+import os
+import pickle
+import zipfile
+from pathlib import Path
+
+import torch
+
+from .model import ModelConfig, RecurrentAttention
+
+FORMAT = "active_recognition/1"
+SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
+
+
+class CheckpointError(ValueError):
+    """A checkpoint file that is not ours or does not fit; the message says which and why."""
+
+    def __init__(self, path, reason):
+        super().__init__(f"checkpoint {path}: {reason}")
+
+
+def save(path, payload):
+    """Write `payload` to `path` via a temp file and a rename: never a half-written file."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        torch.save({"format": FORMAT, **payload}, tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def read(path):
+    """Load a checkpoint dict safely; CheckpointError for anything that is not ours."""
+    path = Path(path)
+    if not path.is_file():
+        raise CheckpointError(path, "no such file")
+    if not zipfile.is_zipfile(path):
+        raise CheckpointError(path, "unreadable: not a torch checkpoint file (truncated or foreign)")
+    try:
+        ckpt = torch.load(path, map_location="cpu", weights_only=True)
+    except pickle.UnpicklingError as e:
+        raise CheckpointError(path, f"refused: not a plain-weights checkpoint ({str(e)[:200]})") from None
+    except Exception as e:  # truncated zip, not a torch file, ...
+        raise CheckpointError(path, f"unreadable ({type(e).__name__}: {str(e)[:200]})") from None
+    if not isinstance(ckpt, dict) or ckpt.get("format") != FORMAT:
+        raise CheckpointError(path, f"not an active_recognition checkpoint (format {FORMAT} expected)")
+    for key in ("model", "model_args", "classes"):
+        if key not in ckpt:
+            raise CheckpointError(path, f"missing {key!r}")
+    return ckpt
+
+
+def build_model(ckpt, path="<checkpoint>"):
+    """The model a checkpoint dict describes, with its weights; CheckpointError on any mismatch."""
+    try:
+        config = ModelConfig(**ckpt["model_args"])
+    except (TypeError, AssertionError) as e:
+        raise CheckpointError(path, f"bad model_args ({e})") from None
+    classes = ckpt["classes"]
+    if not isinstance(classes, list) or len(classes) != config.num_classes:
+        raise CheckpointError(path, f"{len(classes) if isinstance(classes, list) else '?'} class "
+                                    f"names for a model of {config.num_classes} classes")
+    model = RecurrentAttention(config)
+    try:
+        model.load_state_dict(ckpt["model"], strict=True)
+    except (RuntimeError, TypeError, AttributeError) as e:
+        raise CheckpointError(path, f"weights do not fit the model ({str(e)[:300]})") from None
+    return model
+
+
+def load_model(path=None, expect_classes=None):
+    """(model in eval mode, class names, checkpoint dict) from a file (default: the shipped one)."""
+    path = SHIPPED if path is None else Path(path)
+    ckpt = read(path)
+    model = build_model(ckpt, path)
+    if expect_classes is not None and list(expect_classes) != list(ckpt["classes"]):
+        raise CheckpointError(path, f"classes {ckpt['classes']} differ from {list(expect_classes)}")
+    return model.eval(), list(ckpt["classes"]), ckpt

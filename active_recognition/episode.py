@@ -1,0 +1,114 @@
+"""One active-recognition episode: read a depth image, say what it is, say where to look next.
+
+Training, evaluation and the ROS node all drive this class. It works on a batch of objects at
+once (B = 1 for a robot); views are (theta, phi) tensors and stay in the autograd graph, so the
+training loop can backpropagate through the depth layer into FC_loc.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import torch
+
+from .geometry import wrap_view
+
+
+@dataclass
+class EpisodeConfig:
+    max_views: int = 10
+    entropy_threshold: float = 0.1
+
+    def __post_init__(self):
+        if self.max_views < 1:
+            raise ValueError(f"max_views must be at least 1, got {self.max_views}")
+        if not self.entropy_threshold >= 0:
+            raise ValueError(f"entropy_threshold must be >= 0, got {self.entropy_threshold}")
+
+
+@dataclass
+class Step:
+    logits: torch.Tensor      # (B, C)
+    probs: torch.Tensor       # (B, C)
+    entropy: torch.Tensor     # (B,) Shannon entropy in nats
+    next_view: torch.Tensor   # (B, 2)
+    done: torch.Tensor        # (B,) bool: stopped at this step or earlier
+
+
+def entropy(probs):
+    return -(probs * torch.log(probs.clamp_min(1e-12))).sum(-1)
+
+
+@dataclass
+class Episode:
+    model: torch.nn.Module
+    config: EpisodeConfig = field(default_factory=EpisodeConfig)
+    planner: object = None  # None: the model's own FC_loc; else planner.next_view(episode, step)
+
+    def reset(self, initial_view):
+        """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
+        view = torch.as_tensor(initial_view, dtype=torch.float32)
+        self.view = view.reshape(-1, 2)
+        self.hidden = self.model.init_hidden(len(self.view), self.view.device)
+        self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
+        self.done = torch.zeros(len(self.view), dtype=torch.bool)
+        self.stopped_at = torch.full((len(self.view),), -1, dtype=torch.long)
+        if self.planner is not None and hasattr(self.planner, "reset"):
+            self.planner.reset(self)
+        return self.view
+
+    @property
+    def steps(self):
+        return len(self.probs)
+
+    def step(self, depth) -> Step:
+        """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255]."""
+        depth = torch.as_tensor(depth, dtype=torch.float32)
+        depth = depth.reshape(len(self.view), *depth.shape[-2:])
+        logits, delta, self.hidden = self.model(depth, self.hidden)
+        probs = logits.softmax(-1)
+        h = entropy(probs)
+        prev = self.entropies[-1] if self.entropies else torch.full_like(h, math.log(probs.shape[-1]))
+        self.info_gain.append((prev - h).detach())
+        self.probs.append(probs)
+        self.entropies.append(h.detach())
+        stop = (h.detach() < self.config.entropy_threshold) | (self.steps >= self.config.max_views)
+        newly = stop & ~self.done
+        self.stopped_at[newly] = self.steps
+        self.done = self.done | stop
+        step = Step(logits, probs, h, None, self.done.clone())
+        if self.planner is None:
+            theta, phi = wrap_view(self.view[:, 0] + delta[:, 0], self.view[:, 1] + delta[:, 1])
+            step.next_view = torch.stack([theta, phi], -1)
+        else:
+            step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32)
+        self.view = step.next_view
+        self.views.append(self.view)
+        return step
+
+    def final_probs(self):
+        """Each object's probabilities at the step it stopped (or the last step taken)."""
+        probs = torch.stack(self.probs)                                  # (T, B, C)
+        idx = torch.where(self.stopped_at > 0, self.stopped_at, self.steps) - 1
+        return probs[idx, torch.arange(probs.shape[1])]
+
+
+def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean"):
+    """Close the loop in simulation: render each camera at the episode's view, step, repeat.
+
+    cameras: one DepthCamera per object; initial_views (B, 2). With `rule` ("paper"/"surface")
+    the renders are differentiable in the view (training); without, they are plain.
+    Runs `steps` steps (default: the episode's max_views) regardless of early stopping; the
+    episode records where each object would have stopped. Returns the list of Steps.
+    """
+    from .depth_layer import render_views
+
+    episode.reset(torch.as_tensor(initial_views, dtype=torch.float32))
+    out = []
+    for _ in range(steps or episode.config.max_views):
+        view = episode.view
+        if rule is None:
+            view = view.detach()
+        depth = render_views(view.double(), cameras, rule or "paper", reduction)
+        out.append(episode.step(depth.float()))
+    return out

@@ -1,0 +1,89 @@
+"""The recurrent 3D attentional network: Conv2D encoder, ReLU RNN cell, FC_class and FC_loc.
+
+SC (shape classifier) = encoder + cell (from a zero state) + FC_class; 3D-STN = encoder + FC_loc.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import torch
+from torch import nn
+
+ENCODERS = ("compact", "alexnet")
+INPUT_SIZE = {"compact": 64, "alexnet": 227}
+
+
+@dataclass
+class ModelConfig:
+    num_classes: int = 10
+    encoder: str = "compact"    # compact (64x64, CPU-friendly) or alexnet (the paper's, 227x227)
+    feature_size: int = 256     # e_t
+    hidden_size: int = 256      # h_t, the paper's best
+    max_step: float = 0.8       # bound on |dtheta|, |dphi| per step, radians
+    radius: float = 1.0         # viewing-sphere radius the model was trained at
+
+    def __post_init__(self):
+        assert self.encoder in ENCODERS, f"encoder must be one of {ENCODERS}, got {self.encoder!r}"
+        assert self.num_classes >= 2, f"need at least 2 classes, got {self.num_classes}"
+        assert self.hidden_size >= 1 and self.feature_size >= 1, "sizes must be positive"
+        assert 0 < self.max_step <= 3.15, f"max_step must be in (0, pi], got {self.max_step}"
+
+    @property
+    def image_size(self):
+        return INPUT_SIZE[self.encoder]
+
+    def to_dict(self):
+        return asdict(self)
+
+
+def compact_encoder(feature_size):
+    return nn.Sequential(                                      # (B, 1, 64, 64)
+        nn.Conv2d(1, 16, 5, stride=2, padding=2), nn.ReLU(),   # (B, 16, 32, 32)
+        nn.Conv2d(16, 32, 3, stride=2, padding=1), nn.ReLU(),  # (B, 32, 16, 16)
+        nn.Conv2d(32, 64, 3, stride=2, padding=1), nn.ReLU(),  # (B, 64, 8, 8)
+        nn.Conv2d(64, 64, 3, stride=2, padding=1), nn.ReLU(),  # (B, 64, 4, 4)
+        nn.Flatten(), nn.Linear(64 * 16, feature_size), nn.ReLU())
+
+
+def alexnet_encoder(feature_size):
+    return nn.Sequential(                                               # (B, 1, 227, 227)
+        nn.Conv2d(1, 96, 11, stride=4), nn.ReLU(), nn.MaxPool2d(3, 2),  # (B, 96, 27, 27)
+        nn.Conv2d(96, 256, 5, padding=2), nn.ReLU(), nn.MaxPool2d(3, 2),  # (B, 256, 13, 13)
+        nn.Conv2d(256, 384, 3, padding=1), nn.ReLU(),
+        nn.Conv2d(384, 384, 3, padding=1), nn.ReLU(),
+        nn.Conv2d(384, 256, 3, padding=1), nn.ReLU(), nn.MaxPool2d(3, 2),  # (B, 256, 6, 6)
+        nn.Flatten(), nn.Dropout(0.5), nn.Linear(256 * 36, 4096), nn.ReLU(),
+        nn.Dropout(0.5), nn.Linear(4096, feature_size), nn.ReLU())
+
+
+class RecurrentAttention(nn.Module):
+    def __init__(self, config: ModelConfig):
+        super().__init__()
+        self.config = config
+        build = compact_encoder if config.encoder == "compact" else alexnet_encoder
+        self.encoder = build(config.feature_size)
+        self.cell = nn.RNNCell(config.feature_size, config.hidden_size, nonlinearity="relu")
+        self.classify = nn.Linear(config.hidden_size, config.num_classes)   # FC_class
+        self.locate = nn.Linear(config.hidden_size, 2)                      # FC_loc
+        nn.init.normal_(self.locate.weight, std=0.01)
+        nn.init.zeros_(self.locate.bias)
+
+    def init_hidden(self, batch, device=None):
+        return torch.zeros(batch, self.config.hidden_size, device=device)
+
+    def features(self, depth):
+        """Normalised depth (B, H, W) in [0, 255] -> e_t (B, feature_size)."""
+        size = self.config.image_size
+        assert depth.shape[-2:] == (size, size), f"expected {size}x{size} depth, got {tuple(depth.shape)}"
+        return self.encoder(1.0 - depth.unsqueeze(1) / 255.0)  # background 0, near surfaces ~1
+
+    def forward(self, depth, hidden):
+        """One step: (logits (B, C), view increment (B, 2), new hidden (B, hidden_size))."""
+        hidden = self.cell(self.features(depth), hidden)
+        delta = self.config.max_step * torch.tanh(self.locate(hidden))
+        return self.classify(hidden), delta, hidden
+
+    def classify_image(self, depth):
+        """The shape classifier alone: logits from one image, from a zero state."""
+        hidden = self.cell(self.features(depth), self.init_hidden(len(depth), depth.device))
+        return self.classify(hidden)

@@ -1,0 +1,265 @@
+"""Two-stage training: pre-train the shape classifier, then train everything end to end.
+
+Stage "pretrain": depth images of training shapes from random views, cross-entropy.
+Stage "joint": episodes of `steps` views from the 50 initial views, cross-entropy at every step,
+backpropagation through time; FC_loc learns only through the depth layer's view gradient.
+Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU).
+"""
+from __future__ import annotations
+
+import csv
+import math
+import os
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+import torch
+import torch.distributed as dist
+from torch import nn
+from tqdm import tqdm
+
+from . import checkpoint, geometry
+from .datasets import default_cache_dir, open_dataset
+from .depth_layer import CameraConfig, DepthCamera
+from .episode import Episode, EpisodeConfig, run
+from .model import ModelConfig, RecurrentAttention
+
+STAGES = ("pretrain", "joint")
+
+
+@dataclass
+class TrainConfig:
+    dataset: str = "procedural"
+    root: str | None = None
+    out: str = "runs/procedural"
+    stage: str = "all"                # pretrain | joint | all
+    policy: str = "learned"           # learned (end to end) | reinforce (issue: baselines)
+    pretrain_epochs: int = 6
+    joint_epochs: int = 6
+    batch_size: int = 32
+    views_per_shape: int = 4          # pre-training images per shape per batch
+    steps: int = 10                   # views per training episode
+    lr_pretrain: float = 1e-3         # Adam; the paper's SGD used 0.01
+    lr_joint: float = 3e-4            # the paper: 0.001
+    view_gradient: str = "surface"    # paper | surface
+    gradient_reduction: str = "mean"  # mean (the paper) | sum
+    eval_shapes: int = 200            # test shapes scored after each epoch (0: none)
+    checkpoint_every: int = 50        # batches
+    seed: int = 0
+    device: str = "cpu"
+    resume: bool = False
+    max_shapes: int = 0               # use only the first N training shapes (0: all)
+    model: dict = field(default_factory=dict)  # ModelConfig overrides
+
+    def __post_init__(self):
+        if self.stage not in STAGES + ("all",):
+            raise ValueError(f"stage must be pretrain, joint or all, got {self.stage!r}")
+        if self.view_gradient not in ("paper", "surface"):
+            raise ValueError(f"view gradient must be paper or surface, got {self.view_gradient!r}")
+        if self.batch_size < 1 or self.steps < 1:
+            raise ValueError("batch size and steps must be at least 1")
+
+
+class Shapes:
+    """A dataset split with one lazily built DepthCamera per shape."""
+
+    def __init__(self, ds, camera: CameraConfig):
+        self.ds, self.camera, self._cams = ds, camera, {}
+        self.labels = ds.labels()
+
+    def __len__(self):
+        return len(self.ds)
+
+    def cameras(self, idx):
+        for i in idx:
+            if i not in self._cams:
+                self._cams[i] = DepthCamera(*self.ds.mesh(i), self.camera)
+        return [self._cams[i] for i in idx]
+
+
+def uniform_views(rng, n):
+    return np.stack([np.arccos(rng.uniform(-1, 1, n)), rng.uniform(-math.pi, math.pi, n)], -1)
+
+
+class PretrainLoss(nn.Module):
+    """The shape classifier on single images (wrapped whole by DDP: one forward per backward)."""
+
+    def __init__(self, model):
+        super().__init__()
+        self.model = model
+
+    def forward(self, depth, labels):
+        logits = self.model.classify_image(depth)
+        return nn.functional.cross_entropy(logits, labels), (logits.argmax(1) == labels).float().mean()
+
+
+class JointLoss(nn.Module):
+    """A whole batch of episodes, rendered through the differentiable depth layer."""
+
+    def __init__(self, model, steps, rule, reduction):
+        super().__init__()
+        self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
+
+    def forward(self, cameras, views, labels):
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
+        out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
+        loss = sum(nn.functional.cross_entropy(s.logits, labels) for s in out) / len(out)
+        return loss, (out[-1].logits.argmax(1) == labels).float().mean()
+
+
+def distributed():
+    """(rank, world) and the process group, when started by torchrun."""
+    world = int(os.environ.get("WORLD_SIZE", "1"))
+    if world > 1 and not dist.is_initialized():
+        dist.init_process_group("nccl" if torch.cuda.is_available() and
+                                os.environ.get("AR_DEVICE", "cpu").startswith("cuda") else "gloo")
+    return int(os.environ.get("RANK", "0")), world
+
+
+def batches(n, batch, seed, stage, epoch, rank, world):
+    """This rank's batches of shape indices for an epoch: same on resume, disjoint across ranks."""
+    order = np.random.default_rng([seed, STAGES.index(stage), epoch]).permutation(n)
+    per_rank = n // world
+    mine = order[rank * per_rank:(rank + 1) * per_rank]
+    return [mine[b:b + batch] for b in range(0, len(mine) - batch + 1, batch)] or [mine]
+
+
+def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0):
+    """Learned-policy accuracy after 1, 3, 10 views from fixed initial views, first n shapes."""
+    if n <= 0:
+        return {}
+    rng = np.random.default_rng(seed)
+    idx = np.sort(rng.permutation(len(shapes))[:n])  # a fixed, seeded subset of every class
+    views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
+    was = model.training
+    model.eval()
+    with torch.no_grad():
+        out = run(Episode(model, EpisodeConfig(max_views=max(steps))), shapes.cameras(idx), views)
+    model.train(was)
+    y = torch.as_tensor(shapes.labels[idx])
+    return {f"acc_{k}": round((out[k - 1].probs.argmax(1) == y).float().mean().item(), 4) for k in steps}
+
+
+def write_metrics(path, rows):
+    """Rewrite the metrics CSV atomically."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    with open(tmp, "w", newline="") as f:
+        w = csv.DictWriter(f, keys)
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(tmp, path)
+
+
+def read_metrics(path):
+    if not Path(path).is_file():
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def train(cfg: TrainConfig, progress=True):
+    """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt."""
+    rank, world = distributed()
+    torch.manual_seed(cfg.seed)
+    out = Path(cfg.out)
+    out.mkdir(parents=True, exist_ok=True)
+    ckpt_path, metrics_path = out / "last.pt", out / "metrics.csv"
+    cache = default_cache_dir()
+    train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache)
+    test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
+    if cfg.max_shapes:  # a seeded subset with every class in it
+        train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
+    mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
+    model = RecurrentAttention(mcfg).to(cfg.device)
+    camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
+    shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
+    state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
+    rows, elapsed, opt_state = [], 0.0, None
+    if cfg.resume and ckpt_path.exists():
+        ckpt = checkpoint.read(ckpt_path)
+        model.load_state_dict(checkpoint.build_model(ckpt, ckpt_path).state_dict())
+        state, elapsed, opt_state = dict(ckpt["state"]), ckpt["elapsed"], ckpt["optimizer"]
+        rows = read_metrics(metrics_path)
+        if rank == 0:
+            print(f"resumed from {ckpt_path} at {state}", file=sys.stderr)
+    stages = STAGES if cfg.stage == "all" else (cfg.stage,)
+    if cfg.stage == "joint" and not cfg.resume and (out / "pretrained.pt").exists():
+        model.load_state_dict(checkpoint.read(out / "pretrained.pt")["model"])
+    start = time.perf_counter() - elapsed
+
+    def save_state(opt):
+        if rank == 0:
+            payload = {"model": model.state_dict(), "model_args": mcfg.to_dict(),
+                       "classes": list(train_ds.classes), "optimizer": opt.state_dict(),
+                       "state": dict(state), "config": asdict(cfg),
+                       "elapsed": time.perf_counter() - start}
+            checkpoint.save(ckpt_path, payload)
+
+    for s, stage in enumerate(STAGES):
+        if stage not in stages or s < state["stage"]:
+            continue
+        if s > state["stage"]:
+            state.update(stage=s, epoch=0, batch=0)
+            opt_state = None
+        lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
+        opt = torch.optim.Adam(model.parameters(), lr)
+        if opt_state is not None:
+            opt.load_state_dict(opt_state)
+            opt_state = None
+        wrapper = (PretrainLoss(model) if stage == "pretrain" else
+                   JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction))
+        # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
+        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
+               if world > 1 else wrapper)
+        epochs = cfg.pretrain_epochs if stage == "pretrain" else cfg.joint_epochs
+        for epoch in range(state["epoch"], epochs):
+            todo = batches(len(shapes), cfg.batch_size, cfg.seed, stage, epoch, rank, world)
+            bar = tqdm(range(state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
+                       disable=not progress or rank != 0, file=sys.stderr, leave=False)
+            losses, accs = [], []
+            for b in bar:
+                idx = todo[b]
+                rng = np.random.default_rng([cfg.seed, s, epoch, b, rank])
+                torch.manual_seed(int(rng.integers(2 ** 31)))
+                y = torch.as_tensor(shapes.labels[idx], device=cfg.device)
+                cams = shapes.cameras(idx)
+                if stage == "pretrain":
+                    k = cfg.views_per_shape
+                    depth = np.concatenate([c.render(uniform_views(rng, k)) for c in cams])
+                    loss, acc = net(torch.from_numpy(depth).to(cfg.device), y.repeat_interleave(k))
+                else:
+                    views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
+                    loss, acc = net(cams, views, y)
+                opt.zero_grad()
+                loss.backward()
+                opt.step()
+                losses.append(loss.item())
+                accs.append(acc.item())
+                bar.set_postfix(loss=f"{np.mean(losses[-20:]):.3f}", acc=f"{np.mean(accs[-20:]):.3f}")
+                state.update(batch=b + 1, step=state["step"] + 1)
+                if state["step"] % cfg.checkpoint_every == 0:
+                    save_state(opt)
+            state.update(epoch=epoch + 1, batch=0)
+            if rank == 0:
+                row = {"stage": stage, "epoch": epoch + 1, "step": state["step"],
+                       "wall_s": round(time.perf_counter() - start, 2),
+                       "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
+                       "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
+                       **evaluate_accuracy(model, test, cfg.eval_shapes, seed=cfg.seed)}
+                rows.append(row)
+                write_metrics(metrics_path, rows)
+                print(" ".join(f"{k}={v}" for k, v in row.items()), file=sys.stderr)
+            save_state(opt)
+        if stage == "pretrain" and rank == 0:
+            checkpoint.save(out / "pretrained.pt", {"model": model.state_dict(),
+                                                    "model_args": mcfg.to_dict(),
+                                                    "classes": list(train_ds.classes)})
+    if rank == 0:
+        checkpoint.save(out / "final.pt", {"model": model.state_dict(), "model_args": mcfg.to_dict(),
+                                           "classes": list(train_ds.classes), "config": asdict(cfg),
+                                           "elapsed": time.perf_counter() - start})
+    return model

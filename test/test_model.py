@@ -1,0 +1,121 @@
+import math
+
+import numpy as np
+import pytest
+import torch
+import trimesh
+
+from active_recognition.depth_layer import CameraConfig, DepthCamera, render_views
+from active_recognition.episode import Episode, EpisodeConfig, entropy, run
+from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.train import JointLoss
+
+
+@pytest.mark.parametrize("encoder,size", [("compact", 64), ("alexnet", 227)])
+def test_output_shapes_of_both_encoders(encoder, size):
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=7, encoder=encoder, hidden_size=32))
+    depth = torch.rand(3, size, size) * 255
+    logits, delta, hidden = model(depth, model.init_hidden(3))
+    assert logits.shape == (3, 7) and delta.shape == (3, 2) and hidden.shape == (3, 32)
+    assert torch.all(delta.abs() <= model.config.max_step)
+    assert torch.all(hidden >= 0)  # ReLU cell
+    assert model.classify_image(depth).shape == (3, 7)
+    with pytest.raises(AssertionError, match=f"{size}x{size}"):
+        model(torch.zeros(3, 32, 32), model.init_hidden(3))
+
+
+def test_bad_model_configuration_is_refused():
+    with pytest.raises(AssertionError, match="encoder"):
+        ModelConfig(encoder="resnet")
+    with pytest.raises(AssertionError, match="max_step"):
+        ModelConfig(max_step=-1)
+
+
+def confident_model(bias):
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=4, hidden_size=16))
+    with torch.no_grad():
+        model.classify.weight.zero_()
+        model.classify.bias.copy_(torch.tensor([bias, 0.0, 0.0, 0.0]))
+    return model.eval()
+
+
+def test_episode_stops_on_the_entropy_threshold():
+    ep = Episode(confident_model(12.0), EpisodeConfig(max_views=10, entropy_threshold=0.1))
+    ep.reset([1.0, 0.5])
+    step = ep.step(torch.full((64, 64), 255.0))
+    assert step.entropy.item() < 0.1 and bool(step.done) and ep.stopped_at.item() == 1
+
+
+def test_episode_stops_on_the_step_limit_and_records_everything():
+    ep = Episode(confident_model(0.5), EpisodeConfig(max_views=4, entropy_threshold=0.1))
+    ep.reset([1.0, 0.5])
+    dones = [bool(ep.step(torch.full((64, 64), 200.0)).done) for _ in range(4)]
+    assert dones == [False, False, False, True] and ep.stopped_at.item() == 4
+    assert len(ep.views) == 5 and len(ep.probs) == 4
+    # information gain sums to H(p_0) - H(p_T), with p_0 uniform
+    total = sum(g.item() for g in ep.info_gain)
+    assert math.isclose(total, math.log(4) - entropy(ep.probs[-1]).item(), rel_tol=1e-5)
+    for v in ep.views[1:]:  # next views stay valid
+        assert 0 <= v[0, 0] <= math.pi and -math.pi <= v[0, 1] < math.pi
+
+
+def tiny_batch():
+    rng = np.random.default_rng(0)
+    meshes = [trimesh.creation.box(extents=rng.uniform(0.3, 1.0, 3)) for _ in range(3)]
+    meshes += [trimesh.creation.cylinder(radius=0.3, height=rng.uniform(0.4, 1.0)) for _ in range(3)]
+    for m in meshes:
+        m.apply_translation(rng.uniform(-0.1, 0.1, 3))
+    cams = [DepthCamera.from_mesh(m, CameraConfig(64, 64)) for m in meshes]
+    views = torch.tensor(rng.uniform([0.3, -3], [2.8, 3], (6, 2)))
+    return cams, views, torch.tensor([0, 0, 0, 1, 1, 1])
+
+
+def test_view_head_learns_only_through_the_depth_layer():
+    cams, views, labels = tiny_batch()
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=2, hidden_size=32))
+    loss, _ = JointLoss(model, steps=4, rule="surface", reduction="sum")(cams, views, labels)
+    loss.backward()
+    grad = model.locate.weight.grad
+    assert grad is not None and grad.abs().sum() > 0
+    # cut the depth layer's backward: the view head gets nothing at all
+    model.zero_grad()
+    ep = Episode(model, EpisodeConfig(max_views=4, entropy_threshold=0.0))
+    ep.reset(views)
+    loss = 0
+    for _ in range(4):
+        depth = render_views(ep.view.detach().double(), cams).float()
+        loss = loss + torch.nn.functional.cross_entropy(ep.step(depth).logits, labels)
+    loss.backward()
+    assert model.locate.weight.grad is None or model.locate.weight.grad.abs().sum() == 0
+
+
+def test_a_few_joint_steps_lower_the_loss():
+    cams, views, labels = tiny_batch()
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=2, hidden_size=32))
+    net = JointLoss(model, steps=3, rule="paper", reduction="mean")
+    opt = torch.optim.Adam(model.parameters(), 1e-3)
+    losses = []
+    for _ in range(12):
+        loss, _ = net(cams, views, labels)
+        opt.zero_grad()
+        loss.backward()
+        opt.step()
+        losses.append(loss.item())
+    assert losses[-1] < 0.8 * losses[0], losses
+
+
+def test_simulated_run_matches_manual_stepping():
+    cams, views, _ = tiny_batch()
+    model = confident_model(0.3)
+    with torch.no_grad():
+        out = run(Episode(model, EpisodeConfig(max_views=3)), cams, views)
+        ep = Episode(model, EpisodeConfig(max_views=3))
+        ep.reset(views)
+        for k in range(3):
+            depth = np.stack([c.render(v)[0] for c, v in zip(cams, ep.view.numpy())])
+            step = ep.step(torch.from_numpy(depth))
+            torch.testing.assert_close(step.probs, out[k].probs)

@@ -1,0 +1,132 @@
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+import torch
+
+from active_recognition import checkpoint
+from active_recognition.checkpoint import CheckpointError
+from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.train import TrainConfig, train
+
+TINY = dict(pretrain_epochs=1, joint_epochs=2, batch_size=6, max_shapes=30, steps=3,
+            views_per_shape=2, eval_shapes=0, checkpoint_every=2, seed=3,
+            model={"hidden_size": 16, "feature_size": 16})
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "cache"))
+
+
+def weights(path):
+    return checkpoint.read(path)["model"]
+
+
+def cli_args(out, **extra):
+    cfg = {**TINY, **extra}
+    args = [sys.executable, "-m", "active_recognition.cli", "train", "--out", str(out)]
+    for k in ("pretrain_epochs", "joint_epochs", "batch_size", "max_shapes", "steps", "seed",
+              "checkpoint_every", "eval_shapes"):
+        args += ["--" + k.replace("_", "-"), str(cfg[k])]
+    return args
+
+
+def test_checkpoint_round_trip(tmp_path):
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8))
+    checkpoint.save(tmp_path / "m.pt", {"model": model.state_dict(),
+                                        "model_args": model.config.to_dict(),
+                                        "classes": ["a", "b", "c"]})
+    loaded, classes, _ = checkpoint.load_model(tmp_path / "m.pt")
+    x = torch.rand(2, 64, 64) * 255
+    torch.testing.assert_close(loaded.classify_image(x), model.classify_image(x))
+    assert classes == ["a", "b", "c"]
+    assert not list(tmp_path.glob(".*tmp"))  # no temp file left behind
+
+
+class Evil:
+    def __reduce__(self):
+        return (os.system, ("touch /tmp/active_recognition_pwned",))
+
+
+def test_hostile_and_mismatched_checkpoints_are_refused(tmp_path):
+    torch.save({"format": checkpoint.FORMAT, "model": Evil()}, tmp_path / "evil.pt")
+    with pytest.raises(CheckpointError, match="refused"):
+        checkpoint.load_model(tmp_path / "evil.pt")
+    assert not os.path.exists("/tmp/active_recognition_pwned")
+    good = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8))
+    base = {"model": good.state_dict(), "model_args": good.config.to_dict(), "classes": ["a", "b", "c"]}
+    cases = {
+        "wrong_classes": ({**base, "classes": ["a", "b"]}, "class names"),
+        "other_model": ({**base, "model_args": {**base["model_args"], "hidden_size": 9}}, "do not fit"),
+        "bad_args": ({**base, "model_args": {"encoder": "vgg"}}, "bad model_args"),
+    }
+    for name, (payload, reason) in cases.items():
+        checkpoint.save(tmp_path / f"{name}.pt", payload)
+        with pytest.raises(CheckpointError, match=reason):
+            checkpoint.load_model(tmp_path / f"{name}.pt")
+    torch.save({"model": {}}, tmp_path / "foreign.pt")
+    with pytest.raises(CheckpointError, match="not an active_recognition checkpoint"):
+        checkpoint.load_model(tmp_path / "foreign.pt")
+    (tmp_path / "junk.pt").write_bytes(b"garbage" * 10)
+    with pytest.raises(CheckpointError, match="unreadable"):
+        checkpoint.load_model(tmp_path / "junk.pt")
+
+
+def test_killed_run_resumes_to_the_same_weights(tmp_path):
+    torch.set_num_threads(1)
+    env = {**os.environ, "OMP_NUM_THREADS": "1"}
+    straight = tmp_path / "straight"
+    subprocess.run(cli_args(straight), check=True, env=env, capture_output=True, timeout=300)
+    killed = tmp_path / "killed"
+    proc = subprocess.Popen(cli_args(killed), env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    deadline = time.time() + 240
+    while time.time() < deadline:  # SIGKILL once the joint stage has written a checkpoint
+        try:
+            if checkpoint.read(killed / "last.pt")["state"]["stage"] == 1:
+                break
+        except CheckpointError:
+            pass
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    state = checkpoint.read(killed / "last.pt")["state"]
+    assert state["stage"] == 1 and not (killed / "final.pt").exists(), state
+    subprocess.run(cli_args(killed) + ["--resume"], check=True, env=env, capture_output=True,
+                   timeout=300)
+    a, b = weights(straight / "final.pt"), weights(killed / "final.pt")
+    for k in a:
+        torch.testing.assert_close(a[k], b[k], rtol=1e-5, atol=1e-6)
+
+
+TORCHRUN_SCRIPT = """
+import sys, torch, torch.distributed as dist
+from active_recognition.train import TrainConfig, train
+cfg = TrainConfig(**eval(sys.argv[1]))
+model = train(cfg, progress=False)
+flat = torch.cat([p.detach().flatten() for p in model.parameters()])
+gathered = [torch.zeros_like(flat) for _ in range(dist.get_world_size())]
+dist.all_gather(gathered, flat)
+if dist.get_rank() == 0:
+    print("MAXDIFF", max((g - gathered[0]).abs().max().item() for g in gathered))
+dist.destroy_process_group()
+"""
+
+
+def test_two_process_torchrun_on_cpu_agrees(tmp_path):
+    script = tmp_path / "ddp.py"
+    script.write_text(TORCHRUN_SCRIPT)
+    cfg = {**TINY, "out": str(tmp_path / "ddp"), "joint_epochs": 1}
+    res = subprocess.run([sys.executable, "-m", "torch.distributed.run", "--nproc_per_node=2",
+                          "--standalone", str(script), repr(cfg)],
+                         capture_output=True, text=True, timeout=240,
+                         env={**os.environ, "OMP_NUM_THREADS": "1"})
+    assert res.returncode == 0, res.stderr[-3000:]
+    diff = float(res.stdout.split("MAXDIFF")[1].split()[0])
+    assert diff == 0.0
+    assert (tmp_path / "ddp" / "final.pt").exists()
