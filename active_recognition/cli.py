@@ -168,6 +168,23 @@ def add_train(sub):
     p.set_defaults(func=cmd_train)
 
 
+def cmd_demo(args):
+    import importlib.util
+    if importlib.util.find_spec("rclpy") is None:
+        raise ValueError("the demo needs ROS 2's rclpy: install with pip install '.[ros]' "
+                         "or source a ROS 2 install")
+    from .nodes.demo import run_demo
+    run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "")
+
+
+def add_demo(sub):
+    p = sub.add_parser("demo", help="closed loop over ROS topics: recognizer + simulated camera")
+    p.add_argument("--objects", type=int, default=10, help="procedural test objects to recognise")
+    p.add_argument("--seed", type=int, default=0, help="which objects and initial views")
+    p.add_argument("--checkpoint", default=None, help="model file (default: the shipped one)")
+    p.set_defaults(func=cmd_demo)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="active-recognition", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -176,7 +193,7 @@ def build_parser():
     return parser
 
 
-ADDERS = [add_render, add_dataset, add_train]
+ADDERS = [add_render, add_dataset, add_train, add_demo]
 
 
 def main(argv=None):

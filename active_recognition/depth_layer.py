@@ -61,6 +61,17 @@ class CameraConfig:
         return fx, fx, (self.width - 1) / 2, (self.height - 1) / 2
 
 
+def normalise_depth(z, config: CameraConfig):
+    """Metric z-depth -> the paper's depth in [0, 255]; inf or NaN (no return) -> 255.
+
+    The one place where metres become the network's input.
+    """
+    near, far = config.depth_range
+    z = np.asarray(z)
+    d = np.clip((z - near) * (255.0 / (far - near)), 0.0, 255.0)
+    return np.where(np.isfinite(z), d, MISS).astype(np.float32)
+
+
 @dataclass
 class Hits:
     """The hit table of one batch: per view and pixel, the ray and what it hit."""
@@ -128,10 +139,7 @@ class DepthCamera:
         return self.normalise(self.zdepth(hits))
 
     def normalise(self, z):
-        """Metric z-depth -> the paper's depth in [0, 255]; inf or NaN (no return) -> 255."""
-        near, far = self.config.depth_range
-        d = np.clip((np.asarray(z) - near) * (255.0 / (far - near)), 0.0, 255.0)
-        return np.where(np.isfinite(z), d, MISS).astype(np.float32)
+        return normalise_depth(z, self.config)
 
     def metric(self, views) -> np.ndarray:
         """REP 118 depth in metres along the optical axis (B, H, W) float32, NaN = no return."""
@@ -228,3 +236,32 @@ def render_views(views: torch.Tensor, cameras, rule="paper", reduction="mean") -
     if views.ndim != 2 or views.shape[1] != 2:
         raise ValueError(f"views must be (B, 2) (theta, phi), got {tuple(views.shape)}")
     return _RenderViews.apply(views, list(cameras), rule, reduction)
+
+
+def resample(depth, height, width):
+    """Nearest-neighbour resample of a depth image (same field of view) to height x width.
+
+    Nearest, not linear: averaging across an object's edge would invent surfaces in mid-air.
+    """
+    depth = np.asarray(depth)
+    rows = ((np.arange(height) + 0.5) * depth.shape[0] / height).astype(int)
+    cols = ((np.arange(width) + 0.5) * depth.shape[1] / width).astype(int)
+    return depth[rows[:, None], cols[None, :]]
+
+
+def render_pose(camera: DepthCamera, position, optical_rotation):
+    """Metric depth (H, W) float32, NaN = miss, from any camera pose (optical frame, REP 103)."""
+    rot = geometry.rotation_from_optical(optical_rotation)
+    z = camera.zdepth(camera.trace_poses(np.asarray(position)[None], rot[None]))[0]
+    return np.where(np.isfinite(z), z, np.nan).astype(np.float32)
+
+
+def sensor_noise(metres, rng, std=0.0, dropout=0.0):
+    """Gaussian depth noise (std in metres, growing with depth squared like a stereo sensor)
+    and random dropout of returns (NaN), to mimic a real depth camera."""
+    out = np.array(metres, dtype=np.float32, copy=True)
+    if std > 0:
+        out += (std * out ** 2 * rng.standard_normal(out.shape)).astype(np.float32)
+    if dropout > 0:
+        out[rng.random(out.shape) < dropout] = np.nan
+    return out

@@ -44,6 +44,7 @@ class Episode:
     model: torch.nn.Module
     config: EpisodeConfig = field(default_factory=EpisodeConfig)
     planner: object = None  # None: the model's own FC_loc; else planner.next_view(episode, step)
+    exploration_std: float = 0.0  # > 0: sample increments from N(FC_loc, std^2) (REINFORCE)
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
@@ -51,6 +52,7 @@ class Episode:
         self.view = view.reshape(-1, 2)
         self.hidden = self.model.init_hidden(len(self.view), self.view.device)
         self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
+        self.log_probs = []  # log N(increment; FC_loc, std^2) per step, when exploring
         self.done = torch.zeros(len(self.view), dtype=torch.bool)
         self.stopped_at = torch.full((len(self.view),), -1, dtype=torch.long)
         if self.planner is not None and hasattr(self.planner, "reset"):
@@ -78,6 +80,10 @@ class Episode:
         self.done = self.done | stop
         step = Step(logits, probs, h, None, self.done.clone())
         if self.planner is None:
+            if self.exploration_std > 0:
+                sample = (delta + self.exploration_std * torch.randn_like(delta)).detach()
+                self.log_probs.append(-((sample - delta) ** 2).sum(-1) / (2 * self.exploration_std ** 2))
+                delta = sample
             theta, phi = wrap_view(self.view[:, 0] + delta[:, 0], self.view[:, 1] + delta[:, 1])
             step.next_view = torch.stack([theta, phi], -1)
         else:

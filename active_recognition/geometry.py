@@ -158,3 +158,10 @@ def straight_path(theta, phi, steps, step_angle=math.radians(30)):
     pts = np.cos(angles)[:, None] * pos + np.sin(angles)[:, None] * right
     views = [view_from_position(p)[1:] for p in pts]
     return np.array(views)
+
+
+def rotation_from_optical(optical):
+    """ROS optical-frame rotation (columns x right, y down, z forward) -> the view rotation
+    (columns up, -right, -forward) that maps the t = 0 camera frame to world."""
+    o = np.asarray(optical, dtype=np.float64)
+    return np.stack([-o[:, 1], -o[:, 0], -o[:, 2]], -1)

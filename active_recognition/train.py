@@ -59,6 +59,8 @@ class TrainConfig:
             raise ValueError(f"stage must be pretrain, joint or all, got {self.stage!r}")
         if self.view_gradient not in ("paper", "surface"):
             raise ValueError(f"view gradient must be paper or surface, got {self.view_gradient!r}")
+        if self.policy not in ("learned", "reinforce"):
+            raise ValueError(f"policy must be learned or reinforce, got {self.policy!r}")
         if self.batch_size < 1 or self.steps < 1:
             raise ValueError("batch size and steps must be at least 1")
 
@@ -108,6 +110,34 @@ class JointLoss(nn.Module):
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
         loss = sum(nn.functional.cross_entropy(s.logits, labels) for s in out) / len(out)
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
+
+
+class ReinforceLoss(nn.Module):
+    """MV-RNN-style baseline: a Gaussian view policy trained with REINFORCE and a baseline.
+
+    No gradient crosses the depth layer; the reward is a correct final prediction plus the
+    entropy decrease over the episode (in units of log C); the baseline is a running mean.
+    """
+
+    def __init__(self, model, steps, std=0.3, entropy_weight=0.5, momentum=0.9):
+        super().__init__()
+        self.model, self.steps, self.std = model, steps, std
+        self.entropy_weight, self.momentum = entropy_weight, momentum
+        self.register_buffer("baseline", torch.zeros(()))
+
+    def forward(self, cameras, views, labels):
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
+                     exploration_std=self.std)
+        out = run(ep, cameras, views, self.steps)
+        ce = sum(nn.functional.cross_entropy(s.logits, labels) for s in out) / len(out)
+        correct = (out[-1].logits.argmax(1) == labels).float()
+        gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
+        reward = correct + self.entropy_weight * gain
+        advantage = reward - self.baseline
+        with torch.no_grad():
+            self.baseline.mul_(self.momentum).add_((1 - self.momentum) * reward.mean())
+        policy = -(advantage.detach() * torch.stack(ep.log_probs).sum(0)).mean()
+        return ce + policy, correct.mean()
 
 
 def distributed():
@@ -210,8 +240,12 @@ def train(cfg: TrainConfig, progress=True):
         if opt_state is not None:
             opt.load_state_dict(opt_state)
             opt_state = None
-        wrapper = (PretrainLoss(model) if stage == "pretrain" else
-                   JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction))
+        if stage == "pretrain":
+            wrapper = PretrainLoss(model)
+        elif cfg.policy == "reinforce":
+            wrapper = ReinforceLoss(model, cfg.steps)
+        else:
+            wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction)
         # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
         net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
                if world > 1 else wrapper)

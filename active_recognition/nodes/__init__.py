@@ -1,0 +1,1 @@
+"""Thin rclpy shells around the core (the only place rclpy is imported)."""
