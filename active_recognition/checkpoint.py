@@ -37,7 +37,15 @@ def save(path, payload):
 
 
 def read(path):
-    """Load a checkpoint dict safely; CheckpointError for anything that is not ours."""
+    """Load a model checkpoint dict safely; CheckpointError for anything that is not ours."""
+    ckpt = read_any(path)
+    if ckpt.get("kind", "model") != "model":
+        raise CheckpointError(path, f"holds a {ckpt['kind']}, not a recognition model")
+    return ckpt
+
+
+def read_any(path):
+    """Load any of our checkpoint dicts (models, shared classifiers) safely."""
     path = Path(path)
     if not path.is_file():
         raise CheckpointError(path, "no such file")

@@ -185,6 +185,55 @@ def add_demo(sub):
     p.set_defaults(func=cmd_demo)
 
 
+def cmd_evaluate(args):
+    import json
+
+    from .evaluate import EvalConfig, evaluate, summary, write_json
+
+    cfg = EvalConfig(checkpoint=args.checkpoint, reinforce_checkpoint=args.reinforce_checkpoint,
+                     planners=tuple(args.planners.split(",")), dataset=args.dataset,
+                     root=args.root, split=args.split, objects=args.objects, starts=args.starts,
+                     steps=args.steps, entropy_threshold=args.entropy_threshold, seed=args.seed,
+                     out=args.out, shared=not args.no_shared)
+    results = evaluate(cfg)
+    s = summary(results)
+    if args.learned_metrics and args.reinforce_metrics:
+        from pathlib import Path
+
+        from .report import training_time
+        from .train import read_metrics
+        s["training_time"] = training_time(read_metrics(args.learned_metrics),
+                                           read_metrics(args.reinforce_metrics),
+                                           Path(args.out) / "training_time.png")
+        write_json(Path(args.out) / "summary.json", s)
+    print(f"report: {args.out}/report.md")
+    print(json.dumps(s["acc"]))
+
+
+def add_evaluate(sub):
+    from .datasets import NAMES
+    from .policies import PLANNERS
+    p = sub.add_parser("evaluate", help="compare view planners on a dataset split")
+    p.add_argument("--checkpoint", default=None, help="learned model (default: the shipped one)")
+    p.add_argument("--reinforce-checkpoint", default=None,
+                   help="model trained with 'train --policy reinforce' (for the reinforce planner)")
+    p.add_argument("--planners", default="learned,random,straight,oracle",
+                   help=f"comma-separated, from {','.join(PLANNERS)}")
+    p.add_argument("--dataset", choices=NAMES, default="procedural", help="dataset layout")
+    p.add_argument("--root", default=None, help="dataset root folder")
+    p.add_argument("--split", default="test", choices=("train", "test"), help="which split")
+    p.add_argument("--objects", type=int, default=0, help="seeded sample of objects (0: all)")
+    p.add_argument("--starts", type=int, default=1, help="initial views per object (of the 50)")
+    p.add_argument("--steps", type=int, default=10, help="views per episode")
+    p.add_argument("--entropy-threshold", type=float, default=0.1, help="early-stop entropy (nats)")
+    p.add_argument("--seed", type=int, default=0, help="objects, initial views, random planner")
+    p.add_argument("--out", default="runs/eval", help="report folder")
+    p.add_argument("--no-shared", action="store_true", help="skip the shared multi-view classifier")
+    p.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
+    p.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
+    p.set_defaults(func=cmd_evaluate)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="active-recognition", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -193,7 +242,7 @@ def build_parser():
     return parser
 
 
-ADDERS = [add_render, add_dataset, add_train, add_demo]
+ADDERS = [add_render, add_dataset, add_train, add_evaluate, add_demo]
 
 
 def main(argv=None):

@@ -1,0 +1,185 @@
+"""The evaluation harness: every planner on the same objects, initial views and seeds.
+
+Reports accuracy after 1..T views (each planner with its own recurrent classifier, and every
+planner's views scored by one shared multi-view classifier), the paper's 3/6/9 table, information
+gain per step, accuracy and views used with the entropy early stop; writes a per-object CSV, a
+Markdown report and PNG plots.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from . import checkpoint, geometry
+from .datasets import default_cache_dir, open_dataset
+from .depth_layer import CameraConfig
+from .episode import Episode, EpisodeConfig, run
+from .policies import PLANNERS, make_planner
+from .train import Shapes
+
+
+@dataclass
+class EvalConfig:
+    checkpoint: str | None = None            # the learned model (default: the shipped one)
+    reinforce_checkpoint: str | None = None  # the REINFORCE-trained model, for "reinforce"
+    planners: tuple = ("learned", "random", "straight", "oracle")
+    dataset: str = "procedural"
+    root: str | None = None
+    split: str = "test"
+    objects: int = 0                         # 0: the whole split; else a seeded sample
+    starts: int = 1                          # initial views per object, a seeded sample of the 50
+    steps: int = 10
+    entropy_threshold: float = 0.1
+    seed: int = 0
+    out: str = "runs/eval"
+    shared: bool = True                      # also score every planner with the shared classifier
+    oracle_candidates: int = 50
+    trajectory_figures: int = 3
+
+
+@dataclass
+class Rollout:
+    planner: str
+    objects: np.ndarray      # (N,) dataset indices
+    labels: np.ndarray       # (N,)
+    starts: np.ndarray       # (N,) index of the initial view among the 50
+    views: np.ndarray        # (N, T + 1, 2)
+    probs: np.ndarray        # (N, T, C)
+    gain: np.ndarray         # (N, T) information gain per step
+    stopped_at: np.ndarray   # (N,) step of the entropy stop (1-based)
+    shared_probs: np.ndarray = field(default=None)  # (N, T, C) shared classifier on views[:t]
+
+    def accuracy(self, shared=False):
+        probs = self.shared_probs if shared else self.probs
+        return (probs.argmax(-1) == self.labels[:, None]).mean(0)          # (T,)
+
+    def early_stop(self):
+        final = self.probs[np.arange(len(self.labels)), self.stopped_at - 1]
+        return float((final.argmax(-1) == self.labels).mean()), float(self.stopped_at.mean())
+
+
+def sample_episodes(n_objects, total, starts, seed):
+    """(object indices, initial-view indices) of the evaluation, the same for every planner."""
+    rng = np.random.default_rng(seed)
+    objects = np.arange(total) if not n_objects else np.sort(rng.permutation(total)[:n_objects])
+    objects = np.repeat(objects, starts)
+    return objects, rng.integers(0, 50, len(objects))
+
+
+def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100):
+    initial = geometry.fibonacci_views(50)
+    parts = []
+    for b in range(0, len(objects), chunk):
+        idx = objects[b:b + chunk]
+        cams = shapes.cameras(idx)
+        planner = make_planner(name, cams, cfg.seed + b)
+        if planner is not None and hasattr(planner, "candidates"):
+            planner.candidates = geometry.fibonacci_views(cfg.oracle_candidates)
+        ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner)
+        with torch.no_grad():
+            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
+        parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),
+                      torch.stack(ep.info_gain, 1).numpy(), ep.stopped_at.numpy()))
+    views, probs, gain, stopped = (np.concatenate(x) for x in zip(*parts))
+    return Rollout(name, objects, shapes.labels[objects], starts, views, probs, gain, stopped)
+
+
+def score_shared(net, shapes, ro: Rollout, chunk=50):
+    """Shared classifier on every prefix views[:t] of each trajectory."""
+    out = []
+    with torch.no_grad():
+        for b in range(0, len(ro.objects), chunk):
+            cams = shapes.cameras(ro.objects[b:b + chunk])
+            depth = np.stack([c.render(v[:-1]) for c, v in zip(cams, ro.views[b:b + chunk])])
+            depth = torch.from_numpy(depth)                                  # (B, T, H, W)
+            out.append(np.stack([net(depth[:, :t]).softmax(-1).numpy()
+                                 for t in range(1, depth.shape[1] + 1)], 1))
+    ro.shared_probs = np.concatenate(out)
+
+
+def evaluate(cfg: EvalConfig, progress=True):
+    """Run every planner; write the report under cfg.out; return {planner: Rollout}."""
+    for name in cfg.planners:
+        if name not in PLANNERS:
+            raise ValueError(f"planner must be among {PLANNERS}, got {name!r}")
+    if "reinforce" in cfg.planners and not cfg.reinforce_checkpoint:
+        raise ValueError("the reinforce planner needs --reinforce-checkpoint (a model trained "
+                         "with 'train --policy reinforce')")
+    model, classes, _ = checkpoint.load_model(cfg.checkpoint)
+    size = model.config.image_size
+    camera = CameraConfig(size, size, radius=model.config.radius)
+    cache = default_cache_dir()
+    test = Shapes(open_dataset(cfg.dataset, cfg.root, cfg.split, cache_dir=cache), camera)
+    if list(test.ds.classes) != classes:
+        raise ValueError(f"the checkpoint's classes {classes} are not the dataset's {test.ds.classes}")
+    objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
+    models = {"reinforce": checkpoint.load_model(cfg.reinforce_checkpoint, classes)[0]
+              if cfg.reinforce_checkpoint else None}
+    results = {}
+    for name in cfg.planners:
+        results[name] = rollout(name, models.get(name) or model, test, objects, starts, cfg)
+        if progress:
+            print(f"{name}: accuracy after 1..{cfg.steps} views "
+                  f"{np.round(results[name].accuracy(), 3).tolist()}", flush=True)
+    out = Path(cfg.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if cfg.shared:
+        from .shared_classifier import load_or_train
+        train = Shapes(open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache), camera)
+        net = load_or_train(out / "shared_classifier.pt", train, classes, seed=cfg.seed,
+                            progress=progress)
+        for ro in results.values():
+            score_shared(net, test, ro)
+    from .report import write_report
+    write_report(results, classes, cfg, out, test)
+    return results
+
+
+def summary(results):
+    """{'acc': {planner: {'3','6','9'}}, ...} as printed by benchmarks and written to JSON."""
+    def at(ro, shared=False):
+        acc = ro.accuracy(shared)
+        return {str(k): round(float(acc[k - 1]), 4) for k in (3, 6, 9) if k <= len(acc)}
+    s = {"acc": {n: at(ro) for n, ro in results.items()},
+         "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
+         "early_stop": {n: dict(zip(("accuracy", "mean_views"), map(lambda v: round(v, 4), ro.early_stop())))
+                        for n, ro in results.items()}}
+    if all(ro.shared_probs is not None for ro in results.values()):
+        s["acc_shared"] = {n: at(ro, True) for n, ro in results.items()}
+    return s
+
+
+def write_csv(path, results, classes):
+    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
+    with open(tmp, "w", newline="") as f:
+        w = csv.writer(f)
+        steps = next(iter(results.values())).probs.shape[1]
+        w.writerow(["planner", "object", "true", "start", "stopped_at", "early_stop_pred"]
+                   + [f"pred_{t + 1}" for t in range(steps)]
+                   + [f"shared_pred_{t + 1}" for t in range(steps)]
+                   + [f"gain_{t + 1}" for t in range(steps)]
+                   + [f"view_{t + 1}" for t in range(steps)])
+        for name, ro in results.items():
+            for i in range(len(ro.objects)):
+                preds = ro.probs[i].argmax(-1)
+                shared = (ro.shared_probs[i].argmax(-1) if ro.shared_probs is not None
+                          else [-1] * steps)
+                w.writerow([name, int(ro.objects[i]), classes[ro.labels[i]], int(ro.starts[i]),
+                            int(ro.stopped_at[i]), classes[preds[ro.stopped_at[i] - 1]]]
+                           + [classes[p] for p in preds]
+                           + [classes[p] if p >= 0 else "" for p in shared]
+                           + [f"{g:.4f}" for g in ro.gain[i]]
+                           + [f"{t:.4f};{p:.4f}" for t, p in ro.views[i, :-1]])
+    os.replace(tmp, path)
+
+
+def write_json(path, data):
+    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
+    tmp.write_text(json.dumps(data, indent=1))
+    os.replace(tmp, path)

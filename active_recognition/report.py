@@ -1,0 +1,180 @@
+"""Tables (Markdown, CSV, JSON) and plots (PNG) of an evaluation; training-time comparison."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from . import geometry
+from .visualize import save_figure
+
+PAPER = {  # the paper's accuracy after 3 / 6 / 9 views, random initial view (Table)
+    "ModelNet10": (87.7, 89.8, 91.2), "ModelNet40": (86.1, 88.7, 89.8),
+    "ShapeNetCore55": (71.6, 74.5, 76.9)}
+PAPER_TRAINING_HOURS = {"end-to-end (ours in the paper)": 19.5, "MV-RNN (REINFORCE)": 66.0,
+                        "3DShapeNets": 96.0}
+
+
+def plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as pyplot
+    return pyplot
+
+
+def write_report(results, classes, cfg, out, shapes):
+    from .evaluate import summary, write_csv, write_json
+    out = Path(out)
+    s = summary(results)
+    write_csv(out / "per_object.csv", results, classes)
+    write_json(out / "summary.json", s)
+    plot_accuracy(results, out / "accuracy_vs_views.png")
+    plot_gain(results, out / "information_gain.png")
+    plot_trajectories(results, shapes, out / "trajectories.png", cfg.trajectory_figures)
+    markdown = render_markdown(results, s, cfg)
+    tmp = out / ".report.md.tmp"
+    tmp.write_text(markdown)
+    os.replace(tmp, out / "report.md")
+
+
+def table(rows, header):
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def render_markdown(results, s, cfg):
+    n = len(next(iter(results.values())).objects)
+    parts = [f"Dataset `{cfg.dataset}` ({cfg.split} split), {n} episodes "
+             f"({cfg.starts} initial view(s) per object, seed {cfg.seed}), {cfg.steps} views each. "
+             "`oracle` is privileged: it renders every candidate view of the object.", "",
+             "### Accuracy (%) after 3 / 6 / 9 views, each planner with its recurrent classifier", "",
+             table([[k] + [f"{100 * v:.1f}" for v in s["acc"][k].values()] for k in results],
+                   ["planner", "3 views", "6 views", "9 views"])]
+    if "acc_shared" in s:
+        parts += ["", "### Accuracy (%) with one shared multi-view classifier (views compared, "
+                  "not classifiers)", "",
+                  table([[k] + [f"{100 * v:.1f}" for v in s["acc_shared"][k].values()] for k in results],
+                        ["planner", "3 views", "6 views", "9 views"])]
+    steps = len(next(iter(s["gain"].values())))
+    parts += ["", "### Accuracy (%) after 1..T views", "",
+              table([[k] + [f"{100 * a:.1f}" for a in ro.accuracy()] for k, ro in results.items()],
+                    ["planner"] + [str(t + 1) for t in range(steps)]),
+              "", "### Information gain per step, H(p_{t-1}) - H(p_t) in nats (p_0 uniform)", "",
+              table([[k] + [f"{g:.3f}" for g in v] for k, v in s["gain"].items()],
+                    ["planner"] + [str(t + 1) for t in range(steps)]),
+              "", f"### Early stop (entropy < {cfg.entropy_threshold} or {cfg.steps} views)", "",
+              table([[k, f"{100 * v['accuracy']:.1f}", f"{v['mean_views']:.2f}"]
+                     for k, v in s["early_stop"].items()], ["planner", "accuracy %", "mean views"]),
+              "", "The paper (accuracy % after 3 / 6 / 9 views, random initial view): "
+              + "; ".join(f"{k} {a} / {b} / {c}" for k, (a, b, c) in PAPER.items()) + ".",
+              "", "![accuracy](accuracy_vs_views.png) ![gain](information_gain.png)",
+              "", "![trajectories](trajectories.png)"]
+    return "\n".join(parts) + "\n"
+
+
+def plot_accuracy(results, path):
+    pyplot = plt()
+    shared = all(ro.shared_probs is not None for ro in results.values())
+    fig, axes = pyplot.subplots(1, 2 if shared else 1, figsize=(10 if shared else 5.5, 4), squeeze=False)
+    for ax, use_shared in zip(axes[0], (False, True)):
+        for name, ro in results.items():
+            acc = ro.accuracy(use_shared)
+            ax.plot(np.arange(1, len(acc) + 1), 100 * acc, marker="o", ms=3, label=name)
+        ax.set_xlabel("views")
+        ax.set_ylabel("accuracy %")
+        ax.set_title("shared multi-view classifier" if use_shared else "own recurrent classifier")
+        ax.grid(alpha=0.3)
+        ax.legend()
+    fig.tight_layout()
+    save_figure(fig, path, dpi=110)
+    pyplot.close(fig)
+
+
+def plot_gain(results, path):
+    pyplot = plt()
+    fig, ax = pyplot.subplots(figsize=(5.5, 4))
+    for name, ro in results.items():
+        g = ro.gain.mean(0)
+        ax.plot(np.arange(1, len(g) + 1), g, marker="o", ms=3, label=name)
+    ax.set_xlabel("step")
+    ax.set_ylabel("information gain (nats)")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    save_figure(fig, path, dpi=110)
+    pyplot.close(fig)
+
+
+def plot_trajectories(results, shapes, path, objects=3, views=6):
+    """Depth images along each planner's trajectory for a few objects, and the paths on the sphere."""
+    pyplot = plt()
+    names = list(results)
+    first = results[names[0]]
+    views = min(views, first.probs.shape[1])
+    picks = np.linspace(0, len(first.objects) - 1, max(1, objects)).astype(int)
+    rows = len(picks) * len(names)
+    fig = pyplot.figure(figsize=(1.5 * (views + 2), 1.5 * rows))
+    for r, (i, name) in enumerate((i, n) for i in picks for n in names):
+        ro = results[name]
+        cam = shapes.cameras([ro.objects[i]])[0]
+        depth = cam.render(ro.views[i, :views])
+        for c in range(views):
+            ax = fig.add_subplot(rows, views + 2, r * (views + 2) + c + 1)
+            ax.imshow(depth[c], cmap="viridis", vmin=0, vmax=255)
+            ax.set_axis_off()
+            if c == 0:
+                label = shapes.ds.classes[ro.labels[i]]
+                ax.set_title(f"{name}: {label}", fontsize=7, loc="left")
+        ax = fig.add_subplot(rows, views + 2, (r + 1) * (views + 2) - 1, projection="3d")
+        p = geometry.camera_position(ro.views[i, :views, 0], ro.views[i, :views, 1])
+        ax.plot(p[:, 0], p[:, 1], p[:, 2], "-o", ms=2)
+        ax.scatter(*p[0], color="red", s=8)
+        ax.set_xlim(-1, 1), ax.set_ylim(-1, 1), ax.set_zlim(-1, 1)
+        ax.set_axis_off()
+    fig.tight_layout()
+    save_figure(fig, path, dpi=90)
+    pyplot.close(fig)
+
+
+def time_to_reach(rows, target, column="acc_3"):
+    """Joint-stage wall-clock seconds at which `column` first reaches `target` (None if never)."""
+    joint = [r for r in rows if r["stage"] == "joint" and r.get(column) not in (None, "")]
+    if not joint:
+        return None
+    t0 = time_offset(rows)
+    for r in joint:
+        if float(r[column]) >= target:
+            return float(r["wall_s"]) - t0
+    return None
+
+
+def time_offset(rows):
+    """Wall-clock at the start of the joint stage (end of pre-training, if in the same run)."""
+    pre = [float(r["wall_s"]) for r in rows if r["stage"] == "pretrain"]
+    return max(pre) if pre else 0.0
+
+
+def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
+    """Accuracy vs joint-stage wall-clock for both; the time ratio to reinforce's best accuracy."""
+    best = max(float(r[column]) for r in reinforce_rows if r["stage"] == "joint")
+    t_learned, t_rf = time_to_reach(learned_rows, best, column), time_to_reach(reinforce_rows, best, column)
+    ratio = None if t_learned is None or not t_rf else t_learned / t_rf
+    if path is not None:
+        pyplot = plt()
+        fig, ax = pyplot.subplots(figsize=(5.5, 4))
+        for name, rows in (("learned (end to end)", learned_rows), ("reinforce", reinforce_rows)):
+            t0 = time_offset(rows)
+            joint = [r for r in rows if r["stage"] == "joint"]
+            ax.plot([(float(r["wall_s"]) - t0) / 60 for r in joint],
+                    [100 * float(r[column]) for r in joint], marker="o", ms=3, label=name)
+        ax.axhline(100 * best, color="grey", lw=0.8, ls="--")
+        ax.set_xlabel("joint-training wall-clock (min)")
+        ax.set_ylabel(f"test accuracy % ({column.replace('acc_', '')} views)")
+        ax.grid(alpha=0.3)
+        ax.legend()
+        fig.tight_layout()
+        save_figure(fig, path, dpi=110)
+        pyplot.close(fig)
+    return {"reinforce_best": best, "learned_s": t_learned, "reinforce_s": t_rf, "ratio": ratio}

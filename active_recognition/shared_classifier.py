@@ -1,0 +1,69 @@
+"""The shared multi-view classifier (view pooling, as MV-CNN): it scores every planner's views
+with one classifier, so that planners are compared by the views they choose, not by their own
+recurrent classifiers. Trained on random views of the training split, neutral to every planner."""
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+import torch
+from torch import nn
+from tqdm import tqdm
+
+from . import checkpoint
+from .model import compact_encoder
+
+
+class MultiViewClassifier(nn.Module):
+    def __init__(self, num_classes, feature_size=256):
+        super().__init__()
+        self.encoder = compact_encoder(feature_size)
+        self.classify = nn.Linear(feature_size, num_classes)
+
+    def forward(self, depth):
+        """depth (B, V, 64, 64) in [0, 255] -> logits (B, C), features max-pooled over views."""
+        b, v = depth.shape[:2]
+        e = self.encoder(1.0 - depth.reshape(b * v, 1, *depth.shape[2:]) / 255.0)
+        return self.classify(e.reshape(b, v, -1).amax(1))
+
+
+def random_views(rng, n):
+    return np.stack([np.arccos(rng.uniform(-1, 1, n)), rng.uniform(-math.pi, math.pi, n)], -1)
+
+
+def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0, progress=True):
+    """Train on random view sets (1..max_views views) of every training shape."""
+    torch.manual_seed(seed)
+    rng = np.random.default_rng(seed)
+    net = MultiViewClassifier(num_classes)
+    opt = torch.optim.Adam(net.parameters(), 1e-3)
+    for epoch in range(epochs):
+        order = rng.permutation(len(shapes))
+        bar = tqdm(range(0, len(order) - batch + 1, batch), desc=f"shared classifier {epoch + 1}/{epochs}",
+                   disable=not progress, file=sys.stderr, leave=False)
+        for b in bar:
+            idx = order[b:b + batch]
+            v = int(rng.integers(1, max_views + 1))
+            depth = np.stack([c.render(random_views(rng, v)) for c in shapes.cameras(idx)])
+            loss = nn.functional.cross_entropy(net(torch.from_numpy(depth)),
+                                               torch.as_tensor(shapes.labels[idx]))
+            opt.zero_grad()
+            loss.backward()
+            opt.step()
+            bar.set_postfix(loss=f"{loss.item():.3f}")
+    return net.eval()
+
+
+def load_or_train(path, shapes, classes, **kwargs):
+    """The shared classifier at `path`, trained and saved there first if missing."""
+    if path.exists():
+        ckpt = checkpoint.read_any(path)
+        if ckpt.get("classes") == list(classes):
+            net = MultiViewClassifier(len(classes))
+            net.load_state_dict(ckpt["model"])
+            return net.eval()
+    net = train_shared(shapes, len(classes), **kwargs)
+    checkpoint.save(path, {"model": net.state_dict(), "model_args": {}, "classes": list(classes),
+                           "kind": "shared_multiview"})
+    return net
