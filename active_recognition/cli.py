@@ -148,6 +148,8 @@ def add_train(sub):
     p.add_argument("--joint-epochs", dest="joint_epochs", type=int, help="stage 2 epochs")
     p.add_argument("--batch-size", dest="batch_size", type=int, help="shapes per batch")
     p.add_argument("--steps", type=int, help="views per training episode (default 10)")
+    p.add_argument("--views-per-shape", dest="views_per_shape", type=int,
+                   help="pre-training images per shape per batch (default 4)")
     p.add_argument("--lr-pretrain", dest="lr_pretrain", type=float, help="stage 1 learning rate")
     p.add_argument("--lr-joint", dest="lr_joint", type=float, help="stage 2 learning rate")
     p.add_argument("--view-gradient", dest="view_gradient", choices=("paper", "surface"),

@@ -67,9 +67,10 @@ def normalise_depth(z, config: CameraConfig):
     The one place where metres become the network's input.
     """
     near, far = config.depth_range
-    z = np.asarray(z)
-    d = np.clip((z - near) * (255.0 / (far - near)), 0.0, 255.0)
-    return np.where(np.isfinite(z), d, MISS).astype(np.float32)
+    d = np.asarray(z, dtype=np.float32) - np.float32(near)
+    d *= np.float32(255.0 / (far - near))
+    np.nan_to_num(d, copy=False, nan=MISS, posinf=MISS)  # no return (NaN or inf) -> 255
+    return np.clip(d, 0.0, 255.0, out=d)
 
 
 @dataclass
@@ -104,6 +105,8 @@ class DepthCamera:
         local = np.stack([x, -y, np.full_like(x, -config.focal)], -1).reshape(-1, 3)
         self.cos = config.focal / np.linalg.norm(local, axis=1)  # f / sqrt(x^2 + y^2 + f^2)
         self.local_dirs = local * (self.cos / config.focal)[:, None]  # unit rays, (N, 3)
+        self._dirs32 = self.local_dirs.astype(np.float32)
+        self._orig1 = np.empty((len(local), 3), dtype=np.float32)
 
     @classmethod
     def from_mesh(cls, mesh, config: CameraConfig = CameraConfig()):
@@ -119,13 +122,18 @@ class DepthCamera:
         """Cast rays from any poses: origins (B, 3), rotations (B, 3, 3) of the t = 0 frame."""
         origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
         rotations = np.asarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
-        n = len(self.local_dirs)
-        dirs = np.einsum("bij,nj->bni", rotations, self.local_dirs).astype(np.float32)
-        orig = np.repeat(origins.astype(np.float32), n, axis=0)
-        out = self.scene.run(orig, dirs.reshape(-1, 3), output=1)
-        dist = out["tfar"].astype(np.float64)
+        b, n = len(origins), len(self.local_dirs)
+        dirs = self._dirs32 @ rotations.astype(np.float32).transpose(0, 2, 1)   # (B, N, 3)
+        if b == 1:  # one view: reuse a buffer instead of allocating 4096 x 3 floats each time
+            orig = self._orig1
+            orig[:] = origins.astype(np.float32)
+        else:
+            orig = np.empty((b, n, 3), dtype=np.float32)
+            orig[:] = origins[:, None].astype(np.float32)
+        out = self.scene.run(orig.reshape(-1, 3), dirs.reshape(-1, 3), output=1)
+        dist = out["tfar"]
         dist[out["primID"] < 0] = np.inf
-        return Hits(origins, rotations, dist.reshape(-1, n), out["Ng"].reshape(-1, n, 3))
+        return Hits(origins, rotations, dist.reshape(b, n), out["Ng"].reshape(b, n, 3))
 
     def zdepth(self, hits: Hits) -> np.ndarray:
         """Depth along the optical axis (B, H, W): D f / sqrt(x^2 + y^2 + f^2); inf on a miss."""

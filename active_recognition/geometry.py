@@ -32,7 +32,13 @@ def rot_z(a):
 
 def view_rotation(theta, phi):
     """Rz(phi) @ Ry(theta), shape (..., 3, 3): maps the t = 0 camera frame to view (t, p)."""
-    return rot_z(np.asarray(phi, dtype=np.float64)) @ rot_y(np.asarray(theta, dtype=np.float64))
+    t, p = np.asarray(theta, dtype=np.float64), np.asarray(phi, dtype=np.float64)
+    ct, st, cp, sp = np.cos(t), np.sin(t), np.cos(p), np.sin(p)
+    m = np.empty(np.broadcast(t, p).shape + (3, 3))
+    m[..., 0, 0], m[..., 0, 1], m[..., 0, 2] = cp * ct, -sp, cp * st
+    m[..., 1, 0], m[..., 1, 1], m[..., 1, 2] = sp * ct, cp, sp * st
+    m[..., 2, 0], m[..., 2, 1], m[..., 2, 2] = -st, 0.0, ct
+    return m
 
 
 def camera_position(theta, phi, radius=1.0):

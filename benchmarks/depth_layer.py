@@ -1,0 +1,68 @@
+"""Depth layer speed: the same rays three ways on a ~20k-face mesh, at 64x64 and 227x227.
+
+ours     -- DepthCamera.render (ray set-up, embree, hit table, normalised depth)
+embreex  -- raw EmbreeScene.run(output=1) on the precomputed rays (distances + normals, as we need)
+trimesh  -- trimesh's RayMeshIntersector.intersects_location on the same rays, then the depth
+Also a batch of 32 views with one thread vs the two-thread pool. Medians; last line is JSON.
+"""
+import numpy as np
+import trimesh
+from common import emit, median_ms
+from embreex import rtcore_scene
+from embreex.mesh_construction import TriangleMesh
+
+from active_recognition import geometry
+from active_recognition.depth_layer import _DEVICE, CameraConfig, DepthCamera, trace_all
+from active_recognition.meshes import normalise
+
+
+def rays(cam, view):
+    rot = geometry.view_rotation(*view)
+    dirs = (cam.local_dirs @ rot.T).astype(np.float32)
+    orig = np.repeat(geometry.camera_position(*view, cam.config.radius)[None].astype(np.float32),
+                     len(dirs), 0)
+    return orig, dirs
+
+
+def main():
+    # 20,480 faces, normalised into [-0.5, 0.5]^3 like every dataset mesh the camera sees
+    mesh = trimesh.creation.icosphere(subdivisions=5, radius=1.0)
+    mesh.vertices = normalise(mesh.vertices * [1.0, 0.7, 0.55])
+    view = (1.1, 0.4)
+    out = {"faces": len(mesh.faces)}
+    for size in (64, 227):
+        cam = DepthCamera.from_mesh(mesh, CameraConfig(size, size))
+        o, d = rays(cam, view)
+        scene = rtcore_scene.EmbreeScene(_DEVICE)
+        TriangleMesh(scene, mesh.vertices.astype(np.float32), mesh.faces.astype(np.int32))
+        intersector = trimesh.ray.ray_pyembree.RayMeshIntersector(mesh)
+
+        def via_trimesh():
+            loc, idx, _ = intersector.intersects_location(o, d, multiple_hits=False)
+            dist = np.full(len(o), np.inf)
+            dist[idx] = np.linalg.norm(loc - o[idx], axis=1)
+            return cam.normalise(dist * cam.cos)
+
+        np.testing.assert_allclose(via_trimesh(), cam.render(view)[0].ravel(), atol=0.05)
+        ours = median_ms(lambda: cam.render(view))
+        raw = median_ms(lambda: scene.run(o, d, output=1))
+        tri = median_ms(via_trimesh, repeat=10)
+        out[f"ms_per_image_{size}"] = ours
+        out[f"raw_embreex_ms_{size}"] = raw
+        out[f"trimesh_ms_{size}"] = tri
+        out[f"ratio_vs_embreex_{size}"] = ours / raw
+        out[f"speedup_vs_trimesh_{size}"] = tri / ours
+        print(f"{size}x{size}: ours {ours:.3f} ms, raw embreex {raw:.3f} ms, trimesh {tri:.3f} ms")
+    out["mrays_per_s"] = 64 * 64 / (out["ms_per_image_64"] * 1e-3) / 1e6
+    cam = DepthCamera.from_mesh(mesh, CameraConfig(64, 64))
+    cams, views = [cam] * 32, np.tile(np.array(view), (32, 1))
+    one = median_ms(lambda: [c.trace(v) for c, v in zip(cams, views)], repeat=10)
+    two = median_ms(lambda: trace_all(cams, views), repeat=10)
+    out["batch32_one_thread_ms"], out["batch32_two_threads_ms"] = one, two
+    out["two_thread_speedup"] = one / two
+    print(f"batch of 32 views: one thread {one:.1f} ms, two threads {two:.1f} ms")
+    emit(out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,37 @@
+"""Shipped configuration files stay in step with the code that reads them."""
+import dataclasses
+from pathlib import Path
+
+import pytest
+import yaml
+
+from active_recognition.model import ModelConfig
+from active_recognition.train import TrainConfig
+
+CONFIG = Path(__file__).resolve().parents[1] / "config"
+
+
+@pytest.mark.parametrize("path", sorted(CONFIG.glob("train_*.yaml")) + sorted(CONFIG.glob("ablation_*.yaml")),
+                         ids=lambda p: p.name)
+def test_training_presets_are_valid(path):
+    values = yaml.safe_load(path.read_text())
+    TrainConfig(**values)
+    ModelConfig(**values.get("model", {}))
+
+
+@pytest.mark.parametrize("node", ["recognizer", "simulated_camera"])
+def test_node_yaml_documents_every_declared_parameter(node):
+    pytest.importorskip("rclpy")
+    import importlib
+    module = importlib.import_module(f"active_recognition.nodes.{node}")
+    values = yaml.safe_load((CONFIG / f"{node}.yaml").read_text())[node]["ros__parameters"]
+    assert set(values) == set(module.PARAMS)
+    for name, value in values.items():
+        assert type(value) is type(module.PARAMS[name][0]), name
+
+
+def test_train_config_fields_have_cli_flags():
+    from active_recognition.cli import build_parser
+    train = build_parser()._subparsers._group_actions[0].choices["train"]
+    dests = {a.dest for a in train._actions}
+    assert {f.name for f in dataclasses.fields(TrainConfig)} - {"model"} <= dests

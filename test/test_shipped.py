@@ -1,0 +1,50 @@
+"""The shipped checkpoint: loads from the package alone and scores what the README says."""
+import re
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from active_recognition import checkpoint, geometry
+from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.depth_layer import CameraConfig
+from active_recognition.episode import Episode, EpisodeConfig, run
+from active_recognition.policies import make_planner
+from active_recognition.train import Shapes
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def episodes(n, seed):
+    test = Shapes(open_dataset("procedural", split="test", cache_dir=default_cache_dir()),
+                  CameraConfig(64, 64))
+    rng = np.random.default_rng(seed)
+    idx = np.sort(rng.permutation(len(test))[:n])
+    return test, idx, geometry.fibonacci_views(50)[rng.integers(0, 50, n)]
+
+
+def accuracy(model, test, idx, views, steps, planner=None):
+    with torch.no_grad():
+        out = run(Episode(model, EpisodeConfig(steps), planner), test.cameras(idx), views, steps)
+    return (out[-1].probs.argmax(1) == torch.as_tensor(test.labels[idx])).float().mean().item()
+
+
+def test_shipped_checkpoint_matches_the_readme_figure():
+    figure = float(re.search(r"<!-- shipped-acc3 -->\s*([0-9.]+)", README.read_text()).group(1))
+    model, classes, ckpt = checkpoint.load_model()  # the package's own file, nothing else
+    assert classes[0] == "bathtub" and len(classes) == 10 and ckpt["config"]["dataset"] == "procedural"
+    test, idx, views = episodes(100, seed=2024)
+    assert abs(accuracy(model, test, idx, views, 3) - figure) <= 0.02
+
+
+def test_oracle_is_not_worse_than_random_with_the_shipped_model():
+    model, _, _ = checkpoint.load_model()
+    test, idx, views = episodes(30, seed=5)
+    cams = test.cameras(idx)
+    accs = {}
+    for name in ("random", "oracle"):
+        planner = make_planner(name, cams, seed=5)
+        if name == "oracle":
+            planner.candidates = geometry.fibonacci_views(20)
+        accs[name] = accuracy(model, test, idx, views, 2, planner)
+    assert accs["oracle"] >= accs["random"], accs
