@@ -178,3 +178,53 @@ def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
         save_figure(fig, path, dpi=110)
         pyplot.close(fig)
     return {"reinforce_best": best, "learned_s": t_learned, "reinforce_s": t_rf, "ratio": ratio}
+
+
+RESULTS_HEADER = """# Results on the procedural benchmark
+
+Written by `python benchmarks/planners.py` (the whole procedural test split, 500 objects, one
+seeded initial view each of the 50, the same for every planner). Reproduce the models first:
+
+```
+active-recognition train --config config/train_procedural.yaml      # learned: the shipped model
+mkdir -p runs/reinforce && cp runs/ship/pretrained.pt runs/reinforce/
+active-recognition train --config config/train_reinforce.yaml        # REINFORCE baseline
+python benchmarks/planners.py --checkpoint runs/ship/final.pt \\
+    --reinforce-checkpoint runs/reinforce/final.pt \\
+    --learned-metrics runs/ship/metrics.csv --reinforce-metrics runs/reinforce/metrics.csv
+```
+"""
+
+
+def write_results_page(path, s, cfg):
+    """docs/RESULTS.md: our tables beside the paper's figures, and the commands behind them."""
+    rows = lambda key: [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()] for k in s[key]]
+    t = s.get("training_time", {})
+    fmt = lambda x: "never" if x is None else f"{x:.0f} s"
+    ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"
+    parts = [RESULTS_HEADER,
+             "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own recurrent classifier", "",
+             table(rows("acc"), ["planner", "3", "6", "9"])]
+    if "acc_shared" in s:
+        parts += ["", "## The same views scored by one shared multi-view classifier", "",
+                  table(rows("acc_shared"), ["planner", "3", "6", "9"])]
+    parts += ["", "## Information gain per step (nats)", "",
+              table([[k] + [f"{g:.3f}" for g in v] for k, v in s["gain"].items()],
+                    ["planner"] + [str(i + 1) for i in range(len(next(iter(s["gain"].values()))))]),
+              "", f"## Early stop (entropy < {cfg.entropy_threshold})", "",
+              table([[k, f"{100 * v['accuracy']:.1f}", f"{v['mean_views']:.2f}"]
+                     for k, v in s["early_stop"].items()], ["planner", "accuracy %", "mean views"]),
+              "", "## Training time: end to end vs REINFORCE (joint stage, same pre-trained classifier)", "",
+              f"Best 3-view accuracy REINFORCE reaches (200 test objects, after each epoch): "
+              f"{100 * t.get('reinforce_best', float('nan')):.1f} %. Time to reach it: learned "
+              f"{fmt(t.get('learned_s'))}, reinforce {fmt(t.get('reinforce_s'))}; ratio "
+              f"{ratio} (the paper: 19.5 h / 66 h = 0.30).",
+              "", "![training time](results/training_time.png)", "",
+              "## The paper, for reference", "",
+              table([[k, a, b, c] for k, (a, b, c) in PAPER.items()], ["dataset", "3", "6", "9"]),
+              "", "Training hours in the paper: " + ", ".join(f"{k} {v}" for k, v in PAPER_TRAINING_HOURS.items()) + ".",
+              "", "![accuracy](results/accuracy_vs_views.png) ![gain](results/information_gain.png)",
+              "", "![trajectories](results/trajectories.png)", ""]
+    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
+    tmp.write_text("\n".join(parts))
+    os.replace(tmp, path)

@@ -93,3 +93,13 @@ def test_unknown_planner_and_missing_reinforce_model_are_refused():
         evaluate(EvalConfig(planners=("psychic",)))
     with pytest.raises(ValueError, match="reinforce-checkpoint"):
         evaluate(EvalConfig(planners=("reinforce",)))
+
+
+def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):
+    from active_recognition.report import write_results_page
+    res, cfg, _ = results
+    s = summary(res)
+    s["training_time"] = {"reinforce_best": 0.9, "learned_s": 10.0, "reinforce_s": 40.0, "ratio": 0.25}
+    write_results_page(tmp_path / "RESULTS.md", s, cfg)
+    text = (tmp_path / "RESULTS.md").read_text()
+    assert "ModelNet10 | 87.7 | 89.8 | 91.2" in text and "| oracle |" in text and "ratio 0.25" in text

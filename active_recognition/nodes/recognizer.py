@@ -1,6 +1,7 @@
 """recognizer: depth images in, class probabilities and the next view out (one object at a time)."""
 import json
 import time
+from collections import deque
 
 import rclpy
 from geometry_msgs.msg import PoseStamped
@@ -47,7 +48,8 @@ class Recognizer(Node):
         self.create_subscription(Image, "depth/image", self.on_image, qos_profile_sensor_data)
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.pub_classes.publish(String(data=json.dumps(self.core.classes)))
-        self.rejected, self.step_ms = 0, []
+        self.received = self.processed = self.idle = self.stale = self.rejected = 0
+        self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
         self.request_stamp = None
         self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes")
 
@@ -71,15 +73,19 @@ class Recognizer(Node):
 
     def on_image(self, msg):
         start = time.perf_counter()
+        self.received += 1
         if self.core.done:
+            self.idle += 1
             return  # stopped: waiting for ~/reset
         stamp = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         if self.fresh_only and self.request_stamp is not None and stamp < self.request_stamp:
+            self.stale += 1
             return  # taken before the camera reached the requested view
         try:
             obs = self.core.observe(ma.image_to_metres(msg))
         except ma.AdapterError as e:
             return self.reject(str(e))
+        self.processed += 1
         if obs.done:
             self.request_stamp = None
         else:

@@ -1,0 +1,78 @@
+"""Joint-training throughput: 10-step episodes at 64x64, batch 32 as trained, on the procedural
+benchmark; where the time goes (rendering incl. the depth layer's backward, network forward,
+network backward, optimiser). Median over batches; last line is JSON."""
+import argparse
+import time
+
+import numpy as np
+import torch
+from common import emit
+
+from active_recognition import depth_layer, geometry
+from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.depth_layer import CameraConfig
+from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.train import JointLoss, Shapes
+
+CLOCK = {"render": 0.0}
+
+
+def timed(fn):
+    def wrapper(*args, **kwargs):
+        t = time.perf_counter()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            CLOCK["render"] += time.perf_counter() - t
+    return wrapper
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--batches", type=int, default=12)
+    ap.add_argument("--batch-size", type=int, default=32)
+    ap.add_argument("--rule", default="surface", choices=("paper", "surface"))
+    args = ap.parse_args()
+    # time every render and every depth-layer backward (the Jacobian), wherever they are called
+    depth_layer.trace_all = timed(depth_layer.trace_all)
+    depth_layer.DepthCamera.render_hits = timed(depth_layer.DepthCamera.render_hits)
+    depth_layer.DepthCamera.jacobian = timed(depth_layer.DepthCamera.jacobian)
+    torch.manual_seed(0)
+    shapes = Shapes(open_dataset("procedural", split="train", cache_dir=default_cache_dir()),
+                    CameraConfig(64, 64))
+    model = RecurrentAttention(ModelConfig())
+    net = JointLoss(model, steps=10, rule=args.rule, reduction="mean")
+    opt = torch.optim.Adam(model.parameters(), 3e-4)
+    rng = np.random.default_rng(0)
+    rows = []
+    for b in range(args.batches + 2):
+        idx = rng.permutation(len(shapes))[:args.batch_size]
+        cams = shapes.cameras(idx)
+        views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
+        y = torch.as_tensor(shapes.labels[idx])
+        CLOCK["render"] = 0.0
+        t0 = time.perf_counter()
+        loss, _ = net(cams, views, y)
+        t1 = time.perf_counter()
+        render_fwd = CLOCK["render"]
+        opt.zero_grad()
+        loss.backward()
+        t2 = time.perf_counter()
+        opt.step()
+        t3 = time.perf_counter()
+        render_bwd = CLOCK["render"] - render_fwd
+        if b >= 2:  # warm-up batches build the cameras' embree scenes
+            rows.append((t3 - t0, render_fwd + render_bwd, t1 - t0 - render_fwd,
+                         t2 - t1 - render_bwd, t3 - t2))
+    total, render, fwd, bwd, step = np.median(np.array(rows), axis=0)
+    eps = args.batch_size / total
+    print(f"{eps:.1f} episodes/s: batch {1e3 * total:.0f} ms = render {1e3 * render:.0f} + "
+          f"forward {1e3 * fwd:.0f} + backward {1e3 * bwd:.0f} + optimiser {1e3 * step:.0f} ms")
+    emit({"episodes_per_s": eps, "batch_size": args.batch_size, "steps": 10, "image": 64,
+          "share_render": render / total, "share_forward": fwd / total,
+          "share_backward": bwd / total, "share_optimizer": step / total,
+          "torch_threads": torch.get_num_threads()})
+
+
+if __name__ == "__main__":
+    main()
