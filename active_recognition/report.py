@@ -198,9 +198,13 @@ python benchmarks/planners.py --checkpoint runs/ship/final.pt \\
 
 def write_results_page(path, s, cfg):
     """docs/RESULTS.md: our tables beside the paper's figures, and the commands behind them."""
-    rows = lambda key: [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()] for k in s[key]]
+    def rows(key):
+        return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()] for k in s[key]]
+
+    def fmt(seconds):
+        return "never" if seconds is None else f"{seconds:.0f} s"
+
     t = s.get("training_time", {})
-    fmt = lambda x: "never" if x is None else f"{x:.0f} s"
     ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"
     parts = [RESULTS_HEADER,
              "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own recurrent classifier", "",
@@ -222,7 +226,8 @@ def write_results_page(path, s, cfg):
               "", "![training time](results/training_time.png)", "",
               "## The paper, for reference", "",
               table([[k, a, b, c] for k, (a, b, c) in PAPER.items()], ["dataset", "3", "6", "9"]),
-              "", "Training hours in the paper: " + ", ".join(f"{k} {v}" for k, v in PAPER_TRAINING_HOURS.items()) + ".",
+              "", "Training hours in the paper: "
+              + ", ".join(f"{k} {v}" for k, v in PAPER_TRAINING_HOURS.items()) + ".",
               "", "![accuracy](results/accuracy_vs_views.png) ![gain](results/information_gain.png)",
               "", "![trajectories](results/trajectories.png)", ""]
     tmp = Path(path).with_name(f".{Path(path).name}.tmp")

@@ -7,16 +7,14 @@ import resource
 import time
 
 import numpy as np
-import rclpy
 from common import emit
-from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import Image
 
 import msg_adapters as ma
-from active_recognition.nodes.demo import DemoClient, recognize, spin_until
+from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
 
@@ -27,10 +25,7 @@ def rss_mb():
 
 
 def closed_loop(episodes):
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx)
-    ex = MultiThreadedExecutor(context=ctx)
-    try:
+    with ros_session() as (ctx, ex):
         cam = SimulatedCameraNode(context=ctx)
         rec = Recognizer(context=ctx, parameter_overrides=[Parameter("entropy_threshold", value=0.0)])
         client = DemoClient(context=ctx)
@@ -45,20 +40,11 @@ def closed_loop(episodes):
             assert result is not None and result["views"] == 10, result
             if i >= 2:
                 times.append((time.perf_counter() - t) * 1e3)
-        steps = np.array(rec.step_ms)
-        return times, steps
-    finally:
-        ex.shutdown()
-        for n in list(ex.get_nodes()):
-            n.destroy_node()
-        rclpy.try_shutdown(context=ctx)
+        return times, np.array(rec.step_ms)
 
 
 def stream(seconds, hz):
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx)
-    ex = MultiThreadedExecutor(context=ctx)
-    try:
+    with ros_session() as (ctx, ex):
         rec = Recognizer(context=ctx)
         client = DemoClient(context=ctx)
         sensor = Node("stream", context=ctx)
@@ -95,11 +81,6 @@ def stream(seconds, hz):
                 "stream_idle_between_objects": rec.idle, "stream_stale": rec.stale,
                 "rss_mb_at_10s": rss[9] if len(rss) > 9 else rss[-1], "rss_mb_at_end": rss[-1],
                 "rss_growth_mb": rss[-1] - (rss[9] if len(rss) > 9 else rss[0])}
-    finally:
-        ex.shutdown()
-        for n in list(ex.get_nodes()):
-            n.destroy_node()
-        rclpy.try_shutdown(context=ctx)
 
 
 def rec_reset_request():

@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 pytest.importorskip("sensor_msgs.msg")
-from geometry_msgs.msg import PoseStamped  # noqa: E402
 from sensor_msgs.msg import Image  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402

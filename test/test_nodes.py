@@ -3,23 +3,20 @@ import json
 import os
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
-import torch
 
 rclpy = pytest.importorskip("rclpy")
-from rclpy.executors import MultiThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
-from rclpy.qos import qos_profile_sensor_data  # noqa: E402
+from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data  # noqa: E402
 from sensor_msgs.msg import Image  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
-from active_recognition.nodes.demo import DemoClient, recognize, spin_until  # noqa: E402
+from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
@@ -28,10 +25,7 @@ from active_recognition.simulated_camera import SimulatedCamera, camera_config  
 
 @pytest.fixture
 def loop():
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx)
-    executor = MultiThreadedExecutor(context=ctx)
-    try:
+    with ros_session() as (ctx, executor):
         camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("index", value=3)])
         recognizer = Recognizer(context=ctx, parameter_overrides=[Parameter("seed", value=7)])
         client = DemoClient(context=ctx)
@@ -39,11 +33,6 @@ def loop():
             executor.add_node(n)
         assert spin_until(executor, client.reset.service_is_ready, 10)
         yield ctx, executor, camera, recognizer, client
-    finally:
-        executor.shutdown()
-        for n in list(executor.get_nodes()):
-            n.destroy_node()
-        rclpy.try_shutdown(context=ctx)
 
 
 def direct(index, seed):
@@ -117,28 +106,27 @@ def test_nodes_in_separate_processes_close_the_loop():
     procs = [subprocess.Popen([sys.executable, "-m", f"active_recognition.nodes.{name}"], env=env,
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
              for name in ("simulated_camera", "recognizer")]
-    ctx = rclpy.Context()
-    rclpy.init(context=ctx)
-    executor = MultiThreadedExecutor(context=ctx)
     try:
-        client = DemoClient(context=ctx)
-        executor.add_node(client)
-        assert spin_until(executor, client.reset.service_is_ready, 30), "no recognizer service"
-        classes = []
-        client.create_subscription(String, "recognition/classes",
-                                   lambda m: classes.append(json.loads(m.data)),
-                                   rclpy.qos.QoSProfile(depth=1, durability=1))
-        result = None
-        for _ in range(3):  # discovery between processes can miss the very first request
-            result = recognize(executor, client, timeout=10)
-            if result is not None:
-                break
-        assert result is not None and 1 <= result["views"] <= 10
-        assert spin_until(executor, lambda: bool(classes), 5) and result["label"] in classes[0]
+        with ros_session() as (ctx, executor):
+            close_the_loop(ctx, executor)
     finally:
-        executor.shutdown()
-        client.destroy_node()
-        rclpy.try_shutdown(context=ctx)
         for p in procs:
             p.terminate()
             p.wait(timeout=10)
+
+
+def close_the_loop(ctx, executor):
+    client = DemoClient(context=ctx)
+    executor.add_node(client)
+    assert spin_until(executor, client.reset.service_is_ready, 30), "no recognizer service"
+    classes = []
+    client.create_subscription(String, "recognition/classes",
+                               lambda m: classes.append(json.loads(m.data)),
+                               QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL))
+    result = None
+    for _ in range(3):  # discovery between processes can miss the very first request
+        result = recognize(executor, client, timeout=10)
+        if result is not None:
+            break
+    assert result is not None and 1 <= result["views"] <= 10
+    assert spin_until(executor, lambda: bool(classes), 5) and result["label"] in classes[0]

@@ -24,6 +24,11 @@ def stable_fraction(key: str) -> float:
     return int(hashlib.sha1(key.encode()).hexdigest()[:8], 16) / 2 ** 32
 
 
+def in_split(key: str, split: str, test_fraction: float) -> bool:
+    """Whether the item named `key` belongs to `split` under a stable hash split."""
+    return (stable_fraction(key) < test_fraction) == (split == "test")
+
+
 def save_npz_atomic(path: Path, **arrays):
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..meshes import SUFFIXES
-from .base import ShapeDataset, check_root, check_split, stable_fraction
+from .base import ShapeDataset, check_root, check_split, in_split
 
 
 def folder(root, split="train", cache_dir=None, test_fraction=0.2):
@@ -13,8 +13,7 @@ def folder(root, split="train", cache_dir=None, test_fraction=0.2):
     for label, c in enumerate(classes):
         for p in sorted((root / c).iterdir()):
             if p.suffix.lower() in SUFFIXES:
-                in_test = stable_fraction(f"{c}/{p.name}") < test_fraction
-                if in_test == (split == "test"):
+                if in_split(f"{c}/{p.name}", split, test_fraction):
                     items.append((p, label))
     if not classes:
         raise ValueError(f"folder root {root} has no class folders")

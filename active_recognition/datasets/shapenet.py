@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 
-from .base import ShapeDataset, check_root, check_split, stable_fraction
+from .base import ShapeDataset, check_root, check_split, in_split
 
 
 def synset_names(root):
@@ -31,8 +31,7 @@ def shapenet(root, split="train", cache_dir=None, test_fraction=0.2):
         label = len(classes)
         classes.append(names.get(synset, synset))
         for m in models:
-            in_test = stable_fraction(f"{synset}/{m.parent.parent.name}") < test_fraction
-            if in_test == (split == "test"):
+            if in_split(f"{synset}/{m.parent.parent.name}", split, test_fraction):
                 items.append((m, label))
     if not classes:
         raise ValueError(f"shapenet root {root} has no <synset>/<model>/models/model_normalized.obj")

@@ -2,6 +2,7 @@
 import json
 import threading
 import time
+from contextlib import contextmanager
 
 import numpy as np
 import rclpy
@@ -14,6 +15,21 @@ from std_srvs.srv import Trigger
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
+
+
+@contextmanager
+def ros_session(args=None):
+    """A private rclpy context and a MultiThreadedExecutor; every node added is destroyed after."""
+    ctx = rclpy.Context()
+    rclpy.init(args=args, context=ctx)
+    executor = MultiThreadedExecutor(context=ctx)
+    try:
+        yield ctx, executor
+    finally:
+        executor.shutdown()
+        for node in list(executor.get_nodes()):
+            node.destroy_node()
+        rclpy.try_shutdown(context=ctx)
 
 
 class DemoClient(Node):
@@ -50,10 +66,7 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print):
     """Recognise `objects` procedural test objects in turn; returns the summary dict."""
     test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
     order = np.random.default_rng(seed).permutation(len(test))[:objects]
-    ctx = rclpy.Context()
-    rclpy.init(args=args, context=ctx)
-    executor = MultiThreadedExecutor(context=ctx)
-    try:
+    with ros_session(args) as (ctx, executor):
         camera = SimulatedCameraNode(context=ctx, parameter_overrides=[
             Parameter("index", value=int(order[0]))])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
@@ -87,8 +100,3 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print):
             f"mean views {summary['mean_views']:.1f}, "
             f"median {summary['ms_per_episode_p50']:.0f} ms per episode")
         return summary
-    finally:
-        executor.shutdown()
-        for node in list(executor.get_nodes()):
-            node.destroy_node()
-        rclpy.try_shutdown(context=ctx)

@@ -3,10 +3,8 @@ import json
 import time
 from collections import deque
 
-import rclpy
 from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data
 from sensor_msgs.msg import Image
@@ -15,6 +13,7 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
+from active_recognition.nodes import run_node
 from active_recognition.episode import EpisodeConfig
 from active_recognition.recognizer import ActiveRecognizer
 
@@ -102,17 +101,7 @@ class Recognizer(Node):
 
 
 def main(args=None):
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = Recognizer()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    run_node(Recognizer, args)
 
 
 if __name__ == "__main__":

@@ -1,30 +1,30 @@
 """simulated_camera: renders the depth image a camera would see at every requested pose."""
-import rclpy
 from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
+from active_recognition.nodes import run_node
 from active_recognition.simulated_camera import SimulatedCamera, camera_config
 
-S, D, I = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE, ParameterType.PARAMETER_INTEGER
+STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
+INT = ParameterType.PARAMETER_INTEGER
 PARAMS = {  # name: (default, type, description)
-    "mesh": ("", S, "mesh file to show; empty = an object of `dataset`"),
-    "dataset": ("procedural", S, "procedural, modelnet, shapenet or folder"),
-    "root": ("", S, "dataset root (not for procedural)"),
-    "split": ("test", S, "train or test"),
-    "index": (0, I, "which object of the dataset split"),
-    "width": (64, I, "image width, pixels"),
-    "height": (64, I, "image height, pixels"),
-    "fov_deg": (0.0, D, "horizontal field of view; 0 = holds the [-0.5, 0.5]^3 cube from radius"),
-    "radius": (1.0, D, "viewing-sphere radius the default field of view is made for"),
-    "frame_id": ("camera_depth_optical_frame", S, "frame_id of the images"),
-    "noise_std": (0.0, D, "depth noise, metres at 1 m (grows with depth squared)"),
-    "dropout": (0.0, D, "fraction of pixels with no return"),
-    "seed": (0, I, "seed of the noise"),
+    "mesh": ("", STR, "mesh file to show; empty = an object of `dataset`"),
+    "dataset": ("procedural", STR, "procedural, modelnet, shapenet or folder"),
+    "root": ("", STR, "dataset root (not for procedural)"),
+    "split": ("test", STR, "train or test"),
+    "index": (0, INT, "which object of the dataset split"),
+    "width": (64, INT, "image width, pixels"),
+    "height": (64, INT, "image height, pixels"),
+    "fov_deg": (0.0, DBL, "horizontal field of view; 0 = holds the [-0.5, 0.5]^3 cube from radius"),
+    "radius": (1.0, DBL, "viewing-sphere radius the default field of view is made for"),
+    "frame_id": ("camera_depth_optical_frame", STR, "frame_id of the images"),
+    "noise_std": (0.0, DBL, "depth noise, metres at 1 m (grows with depth squared)"),
+    "dropout": (0.0, DBL, "fraction of pixels with no return"),
+    "seed": (0, INT, "seed of the noise"),
 }
 OBJECT = ("mesh", "dataset", "root", "split", "index")
 
@@ -71,17 +71,7 @@ class SimulatedCameraNode(Node):
 
 
 def main(args=None):
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = SimulatedCameraNode()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+    run_node(SimulatedCameraNode, args)
 
 
 if __name__ == "__main__":
