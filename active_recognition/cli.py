@@ -128,9 +128,6 @@ def cmd_train(args):
         if getattr(args, key) is not None:
             model[key] = getattr(args, key)
     values["model"] = model
-    if args.device:
-        import os
-        os.environ["AR_DEVICE"] = args.device
     train(TrainConfig(**values))
     print(f"checkpoints in {values.get('out', TrainConfig.out)}: last.pt (resumable), final.pt")
 
@@ -152,6 +149,8 @@ def add_train(sub):
                    help="pre-training images per shape per batch (default 4)")
     p.add_argument("--lr-pretrain", dest="lr_pretrain", type=float, help="stage 1 learning rate")
     p.add_argument("--lr-joint", dest="lr_joint", type=float, help="stage 2 learning rate")
+    p.add_argument("--lr-view-scale", dest="lr_view_scale", type=float,
+                   help="FC_loc's learning rate relative to the rest in the joint stage (1)")
     p.add_argument("--view-gradient", dest="view_gradient", choices=("paper", "surface"),
                    help="depth-layer backward rule")
     p.add_argument("--gradient-reduction", dest="gradient_reduction", choices=("mean", "sum"),

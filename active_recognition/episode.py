@@ -48,13 +48,14 @@ class Episode:
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
-        view = torch.as_tensor(initial_view, dtype=torch.float32)
+        device = next(self.model.parameters()).device
+        view = torch.as_tensor(initial_view, dtype=torch.float32, device=device)
         self.view = view.reshape(-1, 2)
-        self.hidden = self.model.init_hidden(len(self.view), self.view.device)
+        self.hidden = self.model.init_hidden(len(self.view), device)
         self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
         self.log_probs = []  # log N(increment; FC_loc, std^2) per step, when exploring
-        self.done = torch.zeros(len(self.view), dtype=torch.bool)
-        self.stopped_at = torch.full((len(self.view),), -1, dtype=torch.long)
+        self.done = torch.zeros(len(self.view), dtype=torch.bool, device=device)
+        self.stopped_at = torch.full((len(self.view),), -1, dtype=torch.long, device=device)
         if self.planner is not None and hasattr(self.planner, "reset"):
             self.planner.reset(self)
         return self.view
@@ -65,7 +66,7 @@ class Episode:
 
     def step(self, depth) -> Step:
         """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255]."""
-        depth = torch.as_tensor(depth, dtype=torch.float32)
+        depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
         depth = depth.reshape(len(self.view), *depth.shape[-2:])
         logits, delta, self.hidden = self.model(depth, self.hidden)
         probs = logits.softmax(-1)
@@ -87,7 +88,8 @@ class Episode:
             theta, phi = wrap_view(self.view[:, 0] + delta[:, 0], self.view[:, 1] + delta[:, 1])
             step.next_view = torch.stack([theta, phi], -1)
         else:
-            step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32)
+            step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32,
+                                             device=self.view.device)
         self.view = step.next_view
         self.views.append(self.view)
         return step
@@ -96,7 +98,7 @@ class Episode:
         """Each object's probabilities at the step it stopped (or the last step taken)."""
         probs = torch.stack(self.probs)                                  # (T, B, C)
         idx = torch.where(self.stopped_at > 0, self.stopped_at, self.steps) - 1
-        return probs[idx, torch.arange(probs.shape[1])]
+        return probs[idx, torch.arange(probs.shape[1], device=probs.device)]
 
 
 def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean"):

@@ -78,9 +78,7 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100):
     for b in range(0, len(objects), chunk):
         idx = objects[b:b + chunk]
         cams = shapes.cameras(idx)
-        planner = make_planner(name, cams, cfg.seed + b)
-        if planner is not None and hasattr(planner, "candidates"):
-            planner.candidates = geometry.fibonacci_views(cfg.oracle_candidates)
+        planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates)
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner)
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)

@@ -42,28 +42,35 @@ class StraightPlanner:
 
 
 class OraclePlanner:
-    """Greedy one-step information gain over a fixed candidate set. Sees the object: privileged."""
+    """Greedy one-step information gain over a fixed candidate set. Sees the object: privileged.
+
+    The candidates' images, hence their encoder features, are the same at every step, so each
+    object's features are computed once; a step only runs the recurrent cell and FC_class.
+    """
 
     privileged = True
 
     def __init__(self, cameras, candidates=50):
         self.cameras = cameras
         self.candidates = geometry.fibonacci_views(candidates)
+        self.features = {}
 
     def next_view(self, episode, step):
-        best = []
+        model, best = episode.model, []
         with torch.no_grad():
             for i, cam in enumerate(self.cameras):
-                depth = torch.from_numpy(cam.render(self.candidates))          # (K, H, W)
-                hidden = episode.hidden[i:i + 1].expand(len(depth), -1)
-                logits, _, _ = episode.model(depth, hidden)
-                p = logits.softmax(-1)
+                if i not in self.features:
+                    depth = torch.from_numpy(cam.render(self.candidates))      # (K, H, W)
+                    self.features[i] = model.features(depth.to(episode.view.device))
+                e = self.features[i]
+                hidden = model.cell(e, episode.hidden[i:i + 1].expand(len(e), -1))
+                p = model.classify(hidden).softmax(-1)
                 h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1)
                 best.append(self.candidates[int(h.argmin())])
         return np.stack(best)
 
 
-def make_planner(name, cameras=None, seed=0):
+def make_planner(name, cameras=None, seed=0, candidates=50):
     """A planner by name; None for the model's own view head (learned, reinforce)."""
     if name not in PLANNERS:
         raise ValueError(f"planner must be one of {PLANNERS}, got {name!r}")
@@ -75,4 +82,4 @@ def make_planner(name, cameras=None, seed=0):
         return StraightPlanner()
     if cameras is None:
         raise ValueError("the oracle planner needs the objects' cameras (it is privileged)")
-    return OraclePlanner(cameras)
+    return OraclePlanner(cameras, candidates)

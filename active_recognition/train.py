@@ -45,6 +45,7 @@ class TrainConfig:
     lr_pretrain: float = 1e-3         # Adam; the paper's SGD used 0.01
     lr_joint: float = 3e-4            # the paper: 0.001
     view_gradient: str = "surface"    # paper | surface
+    lr_view_scale: float = 1.0        # FC_loc's learning rate relative to the rest (joint stage)
     gradient_reduction: str = "mean"  # mean (the paper) | sum
     eval_shapes: int = 200            # test shapes scored after each epoch (0: none)
     checkpoint_every: int = 50        # batches
@@ -140,13 +141,22 @@ class ReinforceLoss(nn.Module):
         return ce + policy, correct.mean()
 
 
-def distributed():
-    """(rank, world) and the process group, when started by torchrun."""
+def distributed(device="cpu"):
+    """(rank, world) and the process group, when started by torchrun: nccl on GPU, gloo on CPU."""
     world = int(os.environ.get("WORLD_SIZE", "1"))
+    rank = int(os.environ.get("RANK", "0"))
     if world > 1 and not dist.is_initialized():
-        dist.init_process_group("nccl" if torch.cuda.is_available() and
-                                os.environ.get("AR_DEVICE", "cpu").startswith("cuda") else "gloo")
-    return int(os.environ.get("RANK", "0")), world
+        dist.init_process_group("nccl" if device.startswith("cuda") else "gloo")
+    return rank, world
+
+
+def resolve_device(device, rank):
+    """cuda on a torchrun rank means that rank's own GPU (LOCAL_RANK)."""
+    if device == "cuda" and int(os.environ.get("WORLD_SIZE", "1")) > 1:
+        return f"cuda:{int(os.environ.get('LOCAL_RANK', rank))}"
+    if device.startswith("cuda") and not torch.cuda.is_available():
+        raise ValueError(f"device {device!r} asked for, but torch sees no CUDA GPU")
+    return device
 
 
 def batches(n, batch, seed, stage, epoch, rank, world):
@@ -169,7 +179,7 @@ def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0):
     with torch.no_grad():
         out = run(Episode(model, EpisodeConfig(max_views=max(steps))), shapes.cameras(idx), views)
     model.train(was)
-    y = torch.as_tensor(shapes.labels[idx])
+    y = torch.as_tensor(shapes.labels[idx], device=out[0].probs.device)
     return {f"acc_{k}": round((out[k - 1].probs.argmax(1) == y).float().mean().item(), 4) for k in steps}
 
 
@@ -193,7 +203,8 @@ def read_metrics(path):
 
 def train(cfg: TrainConfig, progress=True):
     """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt."""
-    rank, world = distributed()
+    rank, world = distributed(cfg.device)
+    device = resolve_device(cfg.device, rank)
     torch.manual_seed(cfg.seed)
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -204,7 +215,7 @@ def train(cfg: TrainConfig, progress=True):
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
     mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
-    model = RecurrentAttention(mcfg).to(cfg.device)
+    model = RecurrentAttention(mcfg).to(device)
     camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
     shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
     state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
@@ -236,7 +247,10 @@ def train(cfg: TrainConfig, progress=True):
             state.update(stage=s, epoch=0, batch=0)
             opt_state = None
         lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
-        opt = torch.optim.Adam(model.parameters(), lr)
+        head = list(model.locate.parameters())
+        rest = [p for n, p in model.named_parameters() if not n.startswith("locate.")]
+        scale = cfg.lr_view_scale if stage == "joint" else 1.0
+        opt = torch.optim.Adam([{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}])
         if opt_state is not None:
             opt.load_state_dict(opt_state)
             opt_state = None
@@ -259,12 +273,12 @@ def train(cfg: TrainConfig, progress=True):
                 idx = todo[b]
                 rng = np.random.default_rng([cfg.seed, s, epoch, b, rank])
                 torch.manual_seed(int(rng.integers(2 ** 31)))
-                y = torch.as_tensor(shapes.labels[idx], device=cfg.device)
+                y = torch.as_tensor(shapes.labels[idx], device=device)
                 cams = shapes.cameras(idx)
                 if stage == "pretrain":
                     k = cfg.views_per_shape
                     depth = np.concatenate([c.render(uniform_views(rng, k)) for c in cams])
-                    loss, acc = net(torch.from_numpy(depth).to(cfg.device), y.repeat_interleave(k))
+                    loss, acc = net(torch.from_numpy(depth).to(device), y.repeat_interleave(k))
                 else:
                     views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
                     loss, acc = net(cams, views, y)

@@ -121,11 +121,18 @@ def test_two_process_torchrun_on_cpu_agrees(tmp_path):
     script = tmp_path / "ddp.py"
     script.write_text(TORCHRUN_SCRIPT)
     cfg = {**TINY, "out": str(tmp_path / "ddp"), "joint_epochs": 1}
-    res = subprocess.run([sys.executable, "-m", "torch.distributed.run", "--nproc_per_node=2",
-                          "--standalone", str(script), repr(cfg)],
-                         capture_output=True, text=True, timeout=240,
-                         env={**os.environ, "OMP_NUM_THREADS": "1"})
-    assert res.returncode == 0, res.stderr[-3000:]
-    diff = float(res.stdout.split("MAXDIFF")[1].split()[0])
+    # a session of its own, so a hang kills the launcher and both workers, not the launcher alone
+    proc = subprocess.Popen([sys.executable, "-m", "torch.distributed.run", "--nproc_per_node=2",
+                             "--standalone", str(script), repr(cfg)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            env={**os.environ, "OMP_NUM_THREADS": "1"})
+    try:
+        stdout, stderr = proc.communicate(timeout=240)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        raise
+    assert proc.returncode == 0, stderr[-3000:]
+    diff = float(stdout.split("MAXDIFF")[1].split()[0])
     assert diff == 0.0
     assert (tmp_path / "ddp" / "final.pt").exists()
