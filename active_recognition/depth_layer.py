@@ -106,7 +106,6 @@ class DepthCamera:
         self.cos = config.focal / np.linalg.norm(local, axis=1)  # f / sqrt(x^2 + y^2 + f^2)
         self.local_dirs = local * (self.cos / config.focal)[:, None]  # unit rays, (N, 3)
         self._dirs32 = self.local_dirs.astype(np.float32)
-        self._orig1 = np.empty((len(local), 3), dtype=np.float32)
 
     @classmethod
     def from_mesh(cls, mesh, config: CameraConfig = CameraConfig()):
@@ -124,12 +123,8 @@ class DepthCamera:
         rotations = np.asarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
         b, n = len(origins), len(self.local_dirs)
         dirs = self._dirs32 @ rotations.astype(np.float32).transpose(0, 2, 1)   # (B, N, 3)
-        if b == 1:  # one view: reuse a buffer instead of allocating 4096 x 3 floats each time
-            orig = self._orig1
-            orig[:] = origins.astype(np.float32)
-        else:
-            orig = np.empty((b, n, 3), dtype=np.float32)
-            orig[:] = origins[:, None].astype(np.float32)
+        orig = np.empty((b, n, 3), dtype=np.float32)  # per call: one camera may trace in 2 threads
+        orig[:] = origins[:, None].astype(np.float32)
         out = self.scene.run(orig.reshape(-1, 3), dirs.reshape(-1, 3), output=1)
         dist = out["tfar"]
         dist[out["primID"] < 0] = np.inf
@@ -169,18 +164,17 @@ class DepthCamera:
         d_orig = d_rot[..., 2] * self.config.radius                           # (B, 2, 3)
         hit = hits.hit
         dist = np.where(hit, hits.distance, 0.0)
+        w = self.local_dirs @ hits.rotations.transpose(0, 2, 1)               # (B, N, 3) rays
         if rule == "paper":
-            w = np.einsum("bij,nj->bni", hits.rotations, self.local_dirs)     # (B, N, 3)
-            # X - p = -D w, so (X - p)/D = -w
-            dD = np.einsum("bni,bki->bnk", -w, d_orig)
+            # X - p = -D w, so dD/dX = (X - p)/D = -w
+            dD = -w @ d_orig.transpose(0, 2, 1)                                # (B, N, 2)
         else:
             n = hits.normals.astype(np.float64)
-            w = np.einsum("bij,nj->bni", hits.rotations, self.local_dirs)
-            dw = np.einsum("bkij,nj->bnki", d_rot, self.local_dirs)            # (B, N, 2, 3)
-            nw = np.einsum("bni,bni->bn", n, w)
+            dw = self.local_dirs @ d_rot.transpose(0, 1, 3, 2)                 # (B, 2, N, 3)
+            nw = (n * w).sum(-1)
             nw = np.where(np.abs(nw) < 1e-6, 1e-6, nw)
-            n_do = np.einsum("bni,bki->bnk", n, d_orig)
-            n_dw = np.einsum("bni,bnki->bnk", n, dw)
+            n_do = n @ d_orig.transpose(0, 2, 1)                               # (B, N, 2)
+            n_dw = (n[:, None] * dw).sum(-1).transpose(0, 2, 1)                # (B, N, 2)
             dD = -(n_do + dist[..., None] * n_dw) / nw[..., None]
         near, far = self.config.depth_range
         z = dist * self.cos
@@ -223,11 +217,13 @@ class _RenderViews(torch.autograd.Function):
     @staticmethod
     def backward(ctx, grad):
         g = grad.detach().cpu().numpy().astype(np.float64)
-        out = np.empty((len(g), 2))
-        for i, (cam, hits) in enumerate(zip(ctx.cameras, ctx.hits)):
-            jac = cam.jacobian(hits, ctx.views[i], ctx.rule)[0]                # (N, 2)
+
+        def view_grad(i):
+            jac = ctx.cameras[i].jacobian(ctx.hits[i], ctx.views[i], ctx.rule)[0]   # (N, 2)
             per_pixel = g[i].reshape(-1, 1) * jac
-            out[i] = per_pixel.mean(0) if ctx.reduction == "mean" else per_pixel.sum(0)
+            return per_pixel.mean(0) if ctx.reduction == "mean" else per_pixel.sum(0)
+
+        out = np.stack(list(_POOL.map(view_grad, range(len(g)))) if len(g) > 1 else [view_grad(0)])
         return torch.from_numpy(out).to(grad.device, grad.dtype), None, None, None
 
 

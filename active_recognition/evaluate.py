@@ -96,8 +96,7 @@ def score_shared(net, shapes, ro: Rollout, chunk=50):
             cams = shapes.cameras(ro.objects[b:b + chunk])
             depth = np.stack([c.render(v[:-1]) for c, v in zip(cams, ro.views[b:b + chunk])])
             depth = torch.from_numpy(depth)                                  # (B, T, H, W)
-            out.append(np.stack([net(depth[:, :t]).softmax(-1).numpy()
-                                 for t in range(1, depth.shape[1] + 1)], 1))
+            out.append(net.prefix_logits(depth).softmax(-1).numpy())
     ro.shared_probs = np.concatenate(out)
 
 

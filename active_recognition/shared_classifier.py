@@ -21,11 +21,18 @@ class MultiViewClassifier(nn.Module):
         self.encoder = compact_encoder(feature_size)
         self.classify = nn.Linear(feature_size, num_classes)
 
+    def view_features(self, depth):
+        """depth (B, V, 64, 64) in [0, 255] -> per-view features (B, V, F)."""
+        b, v = depth.shape[:2]
+        return self.encoder(1.0 - depth.reshape(b * v, 1, *depth.shape[2:]) / 255.0).reshape(b, v, -1)
+
     def forward(self, depth):
         """depth (B, V, 64, 64) in [0, 255] -> logits (B, C), features max-pooled over views."""
-        b, v = depth.shape[:2]
-        e = self.encoder(1.0 - depth.reshape(b * v, 1, *depth.shape[2:]) / 255.0)
-        return self.classify(e.reshape(b, v, -1).amax(1))
+        return self.classify(self.view_features(depth).amax(1))
+
+    def prefix_logits(self, depth):
+        """Logits of every prefix views[:t], t = 1..V: (B, V, C), each view encoded once."""
+        return self.classify(torch.cummax(self.view_features(depth), dim=1).values)
 
 
 def random_views(rng, n):

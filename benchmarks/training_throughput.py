@@ -36,7 +36,7 @@ def main():
     # time every render and every depth-layer backward (the Jacobian), wherever they are called
     depth_layer.trace_all = timed(depth_layer.trace_all)
     depth_layer.DepthCamera.render_hits = timed(depth_layer.DepthCamera.render_hits)
-    depth_layer.DepthCamera.jacobian = timed(depth_layer.DepthCamera.jacobian)
+    depth_layer._RenderViews.backward = staticmethod(timed(depth_layer._RenderViews.backward))
     torch.manual_seed(0)
     shapes = Shapes(open_dataset("procedural", split="train", cache_dir=default_cache_dir()),
                     CameraConfig(64, 64))

@@ -103,3 +103,14 @@ def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):
     write_results_page(tmp_path / "RESULTS.md", s, cfg)
     text = (tmp_path / "RESULTS.md").read_text()
     assert "ModelNet10 | 87.7 | 89.8 | 91.2" in text and "| oracle |" in text and "ratio 0.25" in text
+
+
+def test_shared_classifier_prefixes_equal_separate_calls():
+    from active_recognition.shared_classifier import MultiViewClassifier
+    torch.manual_seed(0)
+    net = MultiViewClassifier(5, feature_size=8).eval()
+    depth = torch.rand(3, 4, 64, 64) * 255
+    with torch.no_grad():
+        prefix = net.prefix_logits(depth)
+        for t in range(1, 5):
+            torch.testing.assert_close(prefix[:, t - 1], net(depth[:, :t]))

@@ -130,3 +130,14 @@ def close_the_loop(ctx, executor):
             break
     assert result is not None and 1 <= result["views"] <= 10
     assert spin_until(executor, lambda: bool(classes), 5) and result["label"] in classes[0]
+
+
+def test_executor_never_queues_a_callback_twice(loop):
+    """Jazzy's MultiThreadedExecutor re-queued waiting tasks (ros2/rclpy#1452); ours does not."""
+    ctx, executor, camera, recognizer, client = loop
+    submitted = []
+    submit = executor._executor.submit
+    executor._executor.submit = lambda task: (submitted.append(task), submit(task))[1]
+    for _ in range(3):
+        assert recognize(executor, client) is not None
+    assert submitted and len({id(t) for t in submitted}) == len(submitted)

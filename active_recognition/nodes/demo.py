@@ -6,7 +6,7 @@ from contextlib import contextmanager
 
 import numpy as np
 import rclpy
-from rclpy.executors import MultiThreadedExecutor
+from rclpy import executors
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from std_msgs.msg import String
@@ -15,6 +15,30 @@ from std_srvs.srv import Trigger
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
+
+
+class MultiThreadedExecutor(executors.MultiThreadedExecutor):
+    """rclpy's MultiThreadedExecutor without Jazzy's re-queueing bug (ros2/rclpy#1452, fixed
+    upstream in #1547, newer than the Jazzy wheels): a callback task still waiting in the thread
+    pool was yielded and queued again on every spin, and the spinning thread kept the GIL, so the
+    pool filled with duplicates and latency grew with every message. Here a task already queued
+    is not queued again, and the spinning thread steps aside briefly so the pool can start it."""
+
+    def _spin_once_impl(self, timeout_sec=None, wait_condition=lambda: False):
+        try:
+            handler, _, _ = self.wait_for_ready_callbacks(timeout_sec, None, wait_condition)
+        except (executors.ExternalShutdownException, executors.ShutdownException,
+                executors.TimeoutException, executors.ConditionReachedException):
+            return
+        if any(handler is queued for queued in self._futures):
+            time.sleep(0.0002)  # queued, not started yet: let a pool thread take the GIL
+            return
+        self._executor.submit(handler)
+        self._futures.append(handler)
+        for future in self._futures[:]:
+            if future.done():
+                self._futures.remove(future)
+                future.result()  # raise any exceptions
 
 
 @contextmanager
