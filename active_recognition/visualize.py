@@ -22,6 +22,7 @@ def save_figure(fig, path, **kwargs):
     tmp = atomic_path(path)
     try:
         fig.savefig(tmp, format="png", **kwargs)
+        os.chmod(tmp, 0o644)  # mkstemp makes 0600; a figure is for everyone to read
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
