@@ -223,7 +223,8 @@ class _RenderViews(torch.autograd.Function):
             per_pixel = g[i].reshape(-1, 1) * jac
             return per_pixel.mean(0) if ctx.reduction == "mean" else per_pixel.sum(0)
 
-        out = np.stack(list(_POOL.map(view_grad, range(len(g)))) if len(g) > 1 else [view_grad(0)])
+        # sequential: BLAS from pool threads beside torch's own backward aborted a DDP worker once
+        out = np.stack([view_grad(i) for i in range(len(g))])
         return torch.from_numpy(out).to(grad.device, grad.dtype), None, None, None
 
 
