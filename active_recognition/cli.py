@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 
 
@@ -130,6 +131,16 @@ def cmd_train(args):
     values["model"] = model
     train(TrainConfig(**values))
     print(f"checkpoints in {values.get('out', TrainConfig.out)}: last.pt (resumable), final.pt")
+    import torch.distributed as dist
+    if dist.is_initialized():  # under torchrun: leave the group cleanly, then exit at once
+        dist.barrier()
+        dist.destroy_process_group()
+        # A finished torchrun worker sometimes aborted during interpreter teardown ("terminate
+        # called without an active exception", a C++ thread of gloo or embree); everything is
+        # written and flushed by now, so skip the teardown.
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(0)
 
 
 def add_train(sub):

@@ -8,6 +8,7 @@ Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, ncc
 from __future__ import annotations
 
 import csv
+import gc
 import math
 import os
 import sys
@@ -302,6 +303,11 @@ def train(cfg: TrainConfig, progress=True):
                 write_metrics(metrics_path, rows)
                 print(" ".join(f"{k}={v}" for k, v in row.items()), file=sys.stderr)
             save_state(opt)
+        # free DDP's reducer now: left to reference cycles it outlives destroy_process_group, and
+        # gloo's threads then abort the process at exit ("terminate called without an active
+        # exception", seen in CI)
+        del net, wrapper
+        gc.collect()
         if stage == "pretrain" and rank == 0:
             checkpoint.save(out / "pretrained.pt", {"model": model.state_dict(),
                                                     "model_args": mcfg.to_dict(),

@@ -104,7 +104,7 @@ def test_killed_run_resumes_to_the_same_weights(tmp_path):
 
 
 TORCHRUN_SCRIPT = """
-import sys, torch, torch.distributed as dist
+import os, sys, torch, torch.distributed as dist
 from active_recognition.train import TrainConfig, train
 cfg = TrainConfig(**eval(sys.argv[1]))
 model = train(cfg, progress=False)
@@ -112,8 +112,10 @@ flat = torch.cat([p.detach().flatten() for p in model.parameters()])
 gathered = [torch.zeros_like(flat) for _ in range(dist.get_world_size())]
 dist.all_gather(gathered, flat)
 if dist.get_rank() == 0:
-    print("MAXDIFF", max((g - gathered[0]).abs().max().item() for g in gathered))
+    print("MAXDIFF", max((g - gathered[0]).abs().max().item() for g in gathered), flush=True)
+dist.barrier()
 dist.destroy_process_group()
+os._exit(0)  # as the CLI does: skip an interpreter teardown that gloo/embree threads can abort
 """
 
 
