@@ -1,6 +1,15 @@
 """Thin rclpy shells around the core (the only place rclpy is imported)."""
 
 
+def declare_parameters(node, params):
+    """Declare {name: (default, type, description)} with descriptors; return their values."""
+    from rcl_interfaces.msg import ParameterDescriptor
+
+    for name, (default, kind, text) in params.items():
+        node.declare_parameter(name, default, ParameterDescriptor(type=kind, description=text))
+    return {name: node.get_parameter(name).value for name in params}
+
+
 def run_node(node_class, args=None):
     """The standard node main(): init, spin until Ctrl-C or shutdown, clean up."""
     import rclpy

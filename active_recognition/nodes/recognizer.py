@@ -4,7 +4,7 @@ import time
 from collections import deque
 
 from geometry_msgs.msg import PoseStamped
-from rcl_interfaces.msg import ParameterDescriptor, ParameterType
+from rcl_interfaces.msg import ParameterType
 from rclpy.node import Node
 from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data
 from sensor_msgs.msg import Image
@@ -13,7 +13,7 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.nodes import run_node
+from active_recognition.nodes import declare_parameters, run_node
 from active_recognition.episode import EpisodeConfig
 from active_recognition.recognizer import ActiveRecognizer
 
@@ -31,9 +31,7 @@ PARAMS = {  # name: (default, type, description)
 class Recognizer(Node):
     def __init__(self, **kwargs):
         super().__init__("recognizer", **kwargs)
-        for name, (default, kind, text) in PARAMS.items():
-            self.declare_parameter(name, default, ParameterDescriptor(type=kind, description=text))
-        p = {name: self.get_parameter(name).value for name in PARAMS}
+        p = declare_parameters(self, PARAMS)
         self.frame_id, self.fresh_only = p["frame_id"], p["require_fresh_images"]
         self.core = ActiveRecognizer(p["checkpoint"] or None,
                                      EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"])

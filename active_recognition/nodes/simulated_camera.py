@@ -1,12 +1,12 @@
 """simulated_camera: renders the depth image a camera would see at every requested pose."""
 from geometry_msgs.msg import PoseStamped
-from rcl_interfaces.msg import ParameterDescriptor, ParameterType, SetParametersResult
+from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rclpy.node import Node
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
-from active_recognition.nodes import run_node
+from active_recognition.nodes import declare_parameters, run_node
 from active_recognition.simulated_camera import SimulatedCamera, camera_config
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
@@ -32,9 +32,7 @@ OBJECT = ("mesh", "dataset", "root", "split", "index")
 class SimulatedCameraNode(Node):
     def __init__(self, **kwargs):
         super().__init__("simulated_camera", **kwargs)
-        for name, (default, kind, text) in PARAMS.items():
-            self.declare_parameter(name, default, ParameterDescriptor(type=kind, description=text))
-        p = {name: self.get_parameter(name).value for name in PARAMS}
+        p = declare_parameters(self, PARAMS)
         self.sim = SimulatedCamera(camera_config(p["width"], p["height"], p["fov_deg"], p["radius"]),
                                    p["noise_std"], p["dropout"], p["seed"])
         self.sim.load(**{k: p[k] for k in OBJECT})
