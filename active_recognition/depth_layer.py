@@ -146,7 +146,10 @@ class DepthCamera:
 
     def metric(self, views) -> np.ndarray:
         """REP 118 depth in metres along the optical axis (B, H, W) float32, NaN = no return."""
-        z = self.zdepth(self.trace(views))
+        return self.metric_hits(self.trace(views))
+
+    def metric_hits(self, hits: Hits) -> np.ndarray:
+        z = self.zdepth(hits)
         return np.where(np.isfinite(z), z, np.nan).astype(np.float32)
 
     def jacobian(self, hits: Hits, views, rule="paper") -> np.ndarray:
@@ -257,8 +260,7 @@ def resample(depth, height, width):
 def render_pose(camera: DepthCamera, position, optical_rotation):
     """Metric depth (H, W) float32, NaN = miss, from any camera pose (optical frame, REP 103)."""
     rot = geometry.rotation_from_optical(optical_rotation)
-    z = camera.zdepth(camera.trace_poses(np.asarray(position)[None], rot[None]))[0]
-    return np.where(np.isfinite(z), z, np.nan).astype(np.float32)
+    return camera.metric_hits(camera.trace_poses(np.asarray(position)[None], rot[None]))[0]
 
 
 def sensor_noise(metres, rng, std=0.0, dropout=0.0):

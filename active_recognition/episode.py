@@ -94,12 +94,6 @@ class Episode:
         self.views.append(self.view)
         return step
 
-    def final_probs(self):
-        """Each object's probabilities at the step it stopped (or the last step taken)."""
-        probs = torch.stack(self.probs)                                  # (T, B, C)
-        idx = torch.where(self.stopped_at > 0, self.stopped_at, self.steps) - 1
-        return probs[idx, torch.arange(probs.shape[1], device=probs.device)]
-
 
 def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean"):
     """Close the loop in simulation: render each camera at the episode's view, step, repeat.

@@ -144,6 +144,11 @@ def pixel_grid(height, width, fov, focal=1.0):
     return (u0 - rows) * d, (cols - v0) * d
 
 
+def random_views(rng, n):
+    """n views uniform on the sphere, (n, 2) as (theta, phi), from a numpy Generator."""
+    return np.stack([np.arccos(rng.uniform(-1, 1, n)), rng.uniform(-math.pi, math.pi, n)], -1)
+
+
 def fibonacci_views(n=50):
     """n views evenly spread on the sphere (golden-angle spiral), (n, 2) as (theta, phi)."""
     i = np.arange(n) + 0.5

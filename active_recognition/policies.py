@@ -24,9 +24,7 @@ class RandomPlanner:
         self.rng = np.random.default_rng(seed)
 
     def next_view(self, episode, step):
-        n = len(episode.view)
-        return np.stack([np.arccos(self.rng.uniform(-1, 1, n)),
-                         self.rng.uniform(-math.pi, math.pi, n)], -1)
+        return geometry.random_views(self.rng, len(episode.view))
 
 
 class StraightPlanner:

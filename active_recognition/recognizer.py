@@ -6,7 +6,6 @@ The ROS node is a thin shell around this class.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -76,7 +75,3 @@ class ActiveRecognizer:
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])
 
-
-def check_fov(config: CameraConfig, width, fx):
-    """True when an image of `width` pixels and focal fx (pixels) has the model's field of view."""
-    return math.isclose(2 * math.atan(width / (2 * fx)), config.fov_rad, rel_tol=0.02)

@@ -3,7 +3,6 @@ with one classifier, so that planners are compared by the views they choose, not
 recurrent classifiers. Trained on random views of the training split, neutral to every planner."""
 from __future__ import annotations
 
-import math
 import sys
 
 import numpy as np
@@ -11,7 +10,7 @@ import torch
 from torch import nn
 from tqdm import tqdm
 
-from . import checkpoint
+from . import checkpoint, geometry
 from .model import compact_encoder
 
 
@@ -35,10 +34,6 @@ class MultiViewClassifier(nn.Module):
         return self.classify(torch.cummax(self.view_features(depth), dim=1).values)
 
 
-def random_views(rng, n):
-    return np.stack([np.arccos(rng.uniform(-1, 1, n)), rng.uniform(-math.pi, math.pi, n)], -1)
-
-
 def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0, progress=True):
     """Train on random view sets (1..max_views views) of every training shape."""
     torch.manual_seed(seed)
@@ -52,7 +47,7 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
         for b in bar:
             idx = order[b:b + batch]
             v = int(rng.integers(1, max_views + 1))
-            depth = np.stack([c.render(random_views(rng, v)) for c in shapes.cameras(idx)])
+            depth = np.stack([c.render(geometry.random_views(rng, v)) for c in shapes.cameras(idx)])
             loss = nn.functional.cross_entropy(net(torch.from_numpy(depth)),
                                                torch.as_tensor(shapes.labels[idx]))
             opt.zero_grad()

@@ -84,10 +84,6 @@ class Shapes:
         return [self._cams[i] for i in idx]
 
 
-def uniform_views(rng, n):
-    return np.stack([np.arccos(rng.uniform(-1, 1, n)), rng.uniform(-math.pi, math.pi, n)], -1)
-
-
 class PretrainLoss(nn.Module):
     """The shape classifier on single images (wrapped whole by DDP: one forward per backward)."""
 
@@ -278,7 +274,7 @@ def train(cfg: TrainConfig, progress=True):
                 cams = shapes.cameras(idx)
                 if stage == "pretrain":
                     k = cfg.views_per_shape
-                    depth = np.concatenate([c.render(uniform_views(rng, k)) for c in cams])
+                    depth = np.concatenate([c.render(geometry.random_views(rng, k)) for c in cams])
                     loss, acc = net(torch.from_numpy(depth).to(device), y.repeat_interleave(k))
                 else:
                     views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]

@@ -14,11 +14,6 @@ from active_recognition.datasets import open_dataset
 from active_recognition.depth_layer import CameraConfig, DepthCamera
 
 
-def random_views(rng, n):
-    """Uniform on the sphere."""
-    return np.stack([np.arccos(rng.uniform(-1, 1, n)), rng.uniform(-np.pi, np.pi, n)], -1)
-
-
 def render_set(ds, views_per_shape, rng, cfg):
     images, labels = [], []
     for i in range(len(ds)):
@@ -48,7 +43,7 @@ def main():
     cfg = CameraConfig(height=32, width=32)
     t0 = time.perf_counter()
     train, test = open_dataset("procedural", split="train"), open_dataset("procedural", split="test")
-    x, y = render_set(train, lambda r: random_views(r, args.views_per_shape), rng, cfg)
+    x, y = render_set(train, lambda r: geometry.random_views(r, args.views_per_shape), rng, cfg)
     x, y = x.reshape(-1, 1, 32, 32), y.repeat_interleave(args.views_per_shape)
     print(f"rendered {len(x)} training images in {time.perf_counter() - t0:.1f} s")
     net = small_cnn(len(train.classes))
@@ -64,7 +59,7 @@ def main():
         print(f"epoch {epoch}: loss {loss.item():.3f}")
     net.eval()
     with torch.no_grad():
-        x1, y1 = render_set(test, lambda r: random_views(r, 1), rng, cfg)
+        x1, y1 = render_set(test, lambda r: geometry.random_views(r, 1), rng, cfg)
         acc1 = (net(x1.reshape(-1, 1, 32, 32)).argmax(1) == y1).float().mean().item()
         x9, y9 = render_set(test, geometry.fibonacci_views(9), rng, cfg)
         logp = net(x9.reshape(-1, 1, 32, 32)).log_softmax(1).reshape(len(y9), 9, -1).sum(1)
