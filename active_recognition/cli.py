@@ -162,6 +162,11 @@ def add_train(sub):
     p.add_argument("--lr-joint", dest="lr_joint", type=float, help="stage 2 learning rate")
     p.add_argument("--lr-view-scale", dest="lr_view_scale", type=float,
                    help="FC_loc's learning rate relative to the rest in the joint stage (1)")
+    p.add_argument("--step-weighting", dest="step_weighting", choices=("uniform", "early"),
+                   help="joint loss over the steps: uniform (the paper) or early (1/t)")
+    p.add_argument("--initial-step", dest="initial_step", type=float, nargs=2,
+                   metavar=("DTHETA", "DPHI"),
+                   help="radians: the view head's increment when the joint stage starts (0 0)")
     p.add_argument("--view-gradient", dest="view_gradient", choices=("paper", "surface"),
                    help="depth-layer backward rule")
     p.add_argument("--gradient-reduction", dest="gradient_reduction", choices=("mean", "sum"),

@@ -29,6 +29,7 @@ from .episode import Episode, EpisodeConfig, run
 from .model import ModelConfig, RecurrentAttention
 
 STAGES = ("pretrain", "joint")
+STEP_WEIGHTINGS = ("uniform", "early")
 
 
 @dataclass
@@ -47,6 +48,8 @@ class TrainConfig:
     lr_joint: float = 3e-4            # the paper: 0.001
     view_gradient: str = "surface"    # paper | surface
     lr_view_scale: float = 1.0        # FC_loc's learning rate relative to the rest (joint stage)
+    step_weighting: str = "uniform"   # uniform | early: the joint loss's weights over the steps
+    initial_step: list | None = None  # (dtheta, dphi) rad: FC_loc's bias when the joint stage starts
     gradient_reduction: str = "mean"  # mean (the paper) | sum
     eval_shapes: int = 200            # test shapes scored after each epoch (0: none)
     checkpoint_every: int = 50        # batches
@@ -65,6 +68,31 @@ class TrainConfig:
             raise ValueError(f"policy must be learned or reinforce, got {self.policy!r}")
         if self.batch_size < 1 or self.steps < 1:
             raise ValueError("batch size and steps must be at least 1")
+        if self.step_weighting not in STEP_WEIGHTINGS:
+            raise ValueError(f"step weighting must be one of {STEP_WEIGHTINGS}, "
+                             f"got {self.step_weighting!r}")
+        if self.initial_step is not None and (len(self.initial_step) != 2 or not all(
+                math.isfinite(float(v)) for v in self.initial_step)):
+            raise ValueError(f"initial step must be two finite angles (dtheta, dphi), "
+                             f"got {self.initial_step!r}")
+
+
+def step_weights(steps, weighting="uniform"):
+    """Weights of the per-step losses, summing to 1: uniform (the paper) or early (1/t, t = 1..T),
+    which favours recognising after few views."""
+    w = torch.ones(steps) if weighting == "uniform" else 1.0 / torch.arange(1, steps + 1)
+    return w / w.sum()
+
+
+def set_initial_step(model, step):
+    """Make the untrained view head walk a fixed increment: FC_loc's bias = atanh(step / bound)."""
+    bound = model.config.max_step
+    ratio = torch.as_tensor([float(v) for v in step]) / bound
+    if ratio.abs().max() >= 1:
+        raise ValueError(f"initial step {list(step)} must lie inside the increment bound "
+                         f"max_step = {bound}")
+    with torch.no_grad():
+        model.locate.bias.copy_(torch.atanh(ratio))
 
 
 class Shapes:
@@ -99,14 +127,16 @@ class PretrainLoss(nn.Module):
 class JointLoss(nn.Module):
     """A whole batch of episodes, rendered through the differentiable depth layer."""
 
-    def __init__(self, model, steps, rule, reduction):
+    def __init__(self, model, steps, rule, reduction, weighting="uniform"):
         super().__init__()
         self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
+        self.weights = step_weights(steps, weighting).tolist()
 
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
-        loss = sum(nn.functional.cross_entropy(s.logits, labels) for s in out) / len(out)
+        loss = sum(w * nn.functional.cross_entropy(s.logits, labels)
+                   for w, s in zip(self.weights, out))
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
 
@@ -117,9 +147,10 @@ class ReinforceLoss(nn.Module):
     entropy decrease over the episode (in units of log C); the baseline is a running mean.
     """
 
-    def __init__(self, model, steps, std=0.3, entropy_weight=0.5, momentum=0.9):
+    def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9):
         super().__init__()
         self.model, self.steps, self.std = model, steps, std
+        self.weights = step_weights(steps, weighting).tolist()
         self.entropy_weight, self.momentum = entropy_weight, momentum
         self.register_buffer("baseline", torch.zeros(()))
 
@@ -127,7 +158,7 @@ class ReinforceLoss(nn.Module):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      exploration_std=self.std)
         out = run(ep, cameras, views, self.steps)
-        ce = sum(nn.functional.cross_entropy(s.logits, labels) for s in out) / len(out)
+        ce = sum(w * nn.functional.cross_entropy(s.logits, labels) for w, s in zip(self.weights, out))
         correct = (out[-1].logits.argmax(1) == labels).float()
         gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
         reward = correct + self.entropy_weight * gain
@@ -243,6 +274,9 @@ def train(cfg: TrainConfig, progress=True):
         if s > state["stage"]:
             state.update(stage=s, epoch=0, batch=0)
             opt_state = None
+        fresh = state["epoch"] == 0 and state["batch"] == 0
+        if stage == "joint" and fresh and cfg.initial_step is not None:
+            set_initial_step(model, cfg.initial_step)
         lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
         head = list(model.locate.parameters())
         rest = [p for n, p in model.named_parameters() if not n.startswith("locate.")]
@@ -254,9 +288,10 @@ def train(cfg: TrainConfig, progress=True):
         if stage == "pretrain":
             wrapper = PretrainLoss(model)
         elif cfg.policy == "reinforce":
-            wrapper = ReinforceLoss(model, cfg.steps)
+            wrapper = ReinforceLoss(model, cfg.steps, cfg.step_weighting)
         else:
-            wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction)
+            wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
+                                cfg.step_weighting)
         # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
         net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
                if world > 1 else wrapper)

@@ -35,3 +35,11 @@ def test_train_config_fields_have_cli_flags():
     train = build_parser()._subparsers._group_actions[0].choices["train"]
     dests = {a.dest for a in train._actions}
     assert {f.name for f in dataclasses.fields(TrainConfig)} - {"model"} <= dests
+
+
+@pytest.mark.parametrize("bad,match", [({"step_weighting": "late"}, "step weighting"),
+                                       ({"initial_step": [0.1]}, "initial step"),
+                                       ({"initial_step": [0.1, float("nan")]}, "initial step")])
+def test_bad_training_options_are_named(bad, match):
+    with pytest.raises(ValueError, match=match):
+        TrainConfig(**bad)

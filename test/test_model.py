@@ -119,3 +119,35 @@ def test_simulated_run_matches_manual_stepping():
             depth = np.stack([c.render(v)[0] for c, v in zip(cams, ep.view.numpy())])
             step = ep.step(torch.from_numpy(depth))
             torch.testing.assert_close(step.probs, out[k].probs)
+
+
+def test_step_weights_uniform_and_early():
+    from active_recognition.train import step_weights
+    torch.testing.assert_close(step_weights(4), torch.full((4,), 0.25))
+    early = step_weights(4, "early")
+    h4 = 1 + 1 / 2 + 1 / 3 + 1 / 4
+    torch.testing.assert_close(early, torch.tensor([1, 1 / 2, 1 / 3, 1 / 4]) / h4)
+
+
+def test_joint_loss_is_the_weighted_sum_of_the_per_step_losses():
+    from active_recognition.train import step_weights
+    cams, views, labels = tiny_batch()
+    model = confident_model(0.3)
+    with torch.no_grad():
+        ce = [torch.nn.functional.cross_entropy(s.logits, labels) for s in
+              run(Episode(model, EpisodeConfig(max_views=3, entropy_threshold=0.0)), cams, views, 3)]
+        for weighting in ("uniform", "early"):
+            loss, _ = JointLoss(model, 3, "surface", "mean", weighting)(cams, views, labels)
+            expected = sum(w * c for w, c in zip(step_weights(3, weighting), ce))
+            torch.testing.assert_close(loss, expected)
+
+
+def test_initial_step_sets_the_untrained_increment():
+    from active_recognition.train import set_initial_step
+    model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, max_step=0.8))
+    set_initial_step(model, (0.1, -0.7))
+    with torch.no_grad():
+        delta = model.config.max_step * torch.tanh(model.locate(model.init_hidden(2)))
+    torch.testing.assert_close(delta, torch.tensor([[0.1, -0.7]] * 2))
+    with pytest.raises(ValueError, match="max_step"):
+        set_initial_step(model, (0.0, 0.8))
