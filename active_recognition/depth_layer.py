@@ -67,10 +67,11 @@ def normalise_depth(z, config: CameraConfig):
     The one place where metres become the network's input.
     """
     near, far = config.depth_range
-    d = np.asarray(z, dtype=np.float32) - np.float32(near)
-    d *= np.float32(255.0 / (far - near))
-    np.nan_to_num(d, copy=False, nan=MISS, posinf=MISS)  # no return (NaN or inf) -> 255
-    return np.clip(d, 0.0, 255.0, out=d)
+    k = np.float32(255.0 / (far - near))
+    d = np.asarray(z, dtype=np.float32) * k
+    d -= np.float32(near) * k
+    np.fmin(d, MISS, out=d)  # fmin takes the number where the other is NaN: NaN and inf -> 255
+    return np.fmax(d, 0.0, out=d)
 
 
 @dataclass
@@ -105,7 +106,8 @@ class DepthCamera:
         local = np.stack([x, -y, np.full_like(x, -config.focal)], -1).reshape(-1, 3)
         self.cos = config.focal / np.linalg.norm(local, axis=1)  # f / sqrt(x^2 + y^2 + f^2)
         self.local_dirs = local * (self.cos / config.focal)[:, None]  # unit rays, (N, 3)
-        self._dirs32 = self.local_dirs.astype(np.float32)
+        self._dirs32_t = np.ascontiguousarray(self.local_dirs.T, dtype=np.float32)  # (3, N)
+        self._cos32 = self.cos.astype(np.float32)
 
     @classmethod
     def from_mesh(cls, mesh, config: CameraConfig = CameraConfig()):
@@ -122,17 +124,24 @@ class DepthCamera:
         origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
         rotations = np.asarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
         b, n = len(origins), len(self.local_dirs)
-        dirs = self._dirs32 @ rotations.astype(np.float32).transpose(0, 2, 1)   # (B, N, 3)
-        orig = np.empty((b, n, 3), dtype=np.float32)  # per call: one camera may trace in 2 threads
-        orig[:] = origins[:, None].astype(np.float32)
-        out = self.scene.run(orig.reshape(-1, 3), dirs.reshape(-1, 3), output=1)
+        rot32, orig32 = rotations.astype(np.float32), origins.astype(np.float32)
+        if b == 1:  # the common case: one view per camera per step
+            dirs = (rot32[0] @ self._dirs32_t).T            # (N, 3), a view of a (3, N) product
+            # every ray starts at the camera: a read-only stride-0 view, no copy (embree only
+            # reads it; a fresh one per call, so one camera may trace in two threads)
+            orig = np.ndarray((n, 3), np.float32, orig32, 0, (0, orig32.itemsize))
+            orig.flags.writeable = False
+        else:
+            dirs = (rot32 @ self._dirs32_t).transpose(0, 2, 1).reshape(-1, 3)  # (B N, 3)
+            orig = np.repeat(orig32, n, 0)
+        # embree writes each ray's hit distance into `dists`: inf stays where a ray misses
+        out = self.scene.run(orig, dirs, dists=np.full(b * n, np.inf, np.float32), output=1)
         dist = out["tfar"]
-        dist[out["primID"] < 0] = np.inf
         return Hits(origins, rotations, dist.reshape(b, n), out["Ng"].reshape(b, n, 3))
 
     def zdepth(self, hits: Hits) -> np.ndarray:
         """Depth along the optical axis (B, H, W): D f / sqrt(x^2 + y^2 + f^2); inf on a miss."""
-        return (hits.distance * self.cos).reshape(-1, self.config.height, self.config.width)
+        return (hits.distance * self._cos32).reshape(-1, self.config.height, self.config.width)
 
     def render(self, views) -> np.ndarray:
         """Normalised depth (B, H, W) float32 in [0, 255], 255 = miss (the network's input)."""

@@ -44,9 +44,9 @@ def main():
             return cam.normalise(dist * cam.cos)
 
         np.testing.assert_allclose(via_trimesh(), cam.render(view)[0].ravel(), atol=0.05)
-        ours = median_ms(lambda: cam.render(view))
-        raw = median_ms(lambda: scene.run(o, d, output=1))
-        tri = median_ms(via_trimesh, repeat=10)
+        ours = median_ms(lambda: cam.render(view), repeat=300)
+        raw = median_ms(lambda: scene.run(o, d, output=1), repeat=300)
+        tri = median_ms(via_trimesh, repeat=100)
         out[f"ms_per_image_{size}"] = ours
         out[f"raw_embreex_ms_{size}"] = raw
         out[f"trimesh_ms_{size}"] = tri

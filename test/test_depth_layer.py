@@ -183,3 +183,14 @@ def test_thousands_of_cameras_share_one_embree_device():
     box = trimesh.creation.box(extents=(0.5, 0.5, 0.5))
     cams = [DepthCamera.from_mesh(box, CameraConfig(9, 9)) for _ in range(3000)]
     assert (cams[-1].render((0.0, 0.0)) < 255).any()
+
+
+def test_normalise_depth_maps_metres_misses_and_range_ends():
+    from active_recognition.depth_layer import normalise_depth
+    cfg = CameraConfig()
+    near, far = cfg.depth_range
+    mid = (near + far) / 2
+    z = np.array([near, mid, far, np.nan, np.inf, near - 0.1, far + 0.1])
+    np.testing.assert_allclose(normalise_depth(z, cfg), [0, 127.5, 255, 255, 255, 0, 255], atol=1e-3)
+    assert normalise_depth(z, cfg).dtype == np.float32
+    assert np.isnan(z[3])  # the input is left as it was

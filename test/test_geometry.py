@@ -30,6 +30,10 @@ def test_rotation_order_is_theta_about_y_then_phi_about_z():
     # the other order does not put the camera where the paper's formula does
     assert not np.allclose(ry @ rz @ [0, 0, 1], g.camera_position(t, p))
     np.testing.assert_allclose(g.view_rotation(t, p) @ [0, 0, 1], g.camera_position(t, p))
+    # one view (scalar maths) and a batch (array maths) agree, shapes included
+    batch = g.view_rotation(np.array([t, 0.2]), np.array([p, -2.0]))
+    np.testing.assert_allclose(g.view_rotation(np.array([t]), np.array([p]))[0], batch[0], atol=1e-15)
+    assert g.view_rotation(np.array([t]), p).shape == (1, 3, 3) and g.view_rotation(t, p).shape == (3, 3)
 
 
 def test_optical_frame_looks_at_the_centre_and_quaternion_round_trips(rng):
