@@ -180,3 +180,30 @@ def write_json(path, data):
     tmp = Path(path).with_name(f".{Path(path).name}.tmp")
     tmp.write_text(json.dumps(data, indent=1))
     os.replace(tmp, path)
+
+
+def compare_runs(checkpoints, planners=("learned", "random", "straight"), starts=3, seed=0,
+                 dataset="procedural", root=None, split="test", steps=10, objects=0):
+    """Several trained models, each driving every planner on the same objects and initial views.
+
+    `checkpoints` maps a label to a model file. Returns {label: {planner: accuracy after 1..steps
+    views}}: random and straight are scored with that model's own classifier, so a row compares
+    its view head with the baselines under one classifier (ablations, training variants).
+    """
+    cfg = EvalConfig(dataset=dataset, root=root, split=split, starts=starts, seed=seed, steps=steps,
+                     objects=objects)
+    out, splits = {}, {}
+    for label, path in checkpoints.items():
+        model, classes, _ = checkpoint.load_model(path)
+        size, radius = model.config.image_size, model.config.radius
+        if (size, radius) not in splits:
+            splits[size, radius] = Shapes(open_dataset(dataset, root, split, cache_dir=default_cache_dir()),
+                                          CameraConfig(size, size, radius=radius))
+        shapes = splits[size, radius]
+        if list(shapes.ds.classes) != classes:
+            raise ValueError(f"{path}: the checkpoint's classes {classes} are not the dataset's "
+                             f"{shapes.ds.classes}")
+        idx, st = sample_episodes(objects, len(shapes), starts, seed)
+        out[label] = {n: np.round(rollout(n, model, shapes, idx, st, cfg).accuracy(), 4).tolist()
+                      for n in planners}
+    return out

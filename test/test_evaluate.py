@@ -114,3 +114,25 @@ def test_shared_classifier_prefixes_equal_separate_calls():
         prefix = net.prefix_logits(depth)
         for t in range(1, 5):
             torch.testing.assert_close(prefix[:, t - 1], net(depth[:, :t]))
+
+
+def test_compare_runs_repeats_the_evaluation_on_the_same_episodes(results):
+    from active_recognition.evaluate import compare_runs
+    res, cfg, _ = results  # the fixture's dataset cache stays set for the module
+    table = compare_runs({"m": cfg.checkpoint, "m again": cfg.checkpoint}, starts=1, seed=cfg.seed,
+                         steps=cfg.steps, objects=cfg.objects)
+    for planner in ("learned", "random", "straight"):
+        np.testing.assert_allclose(table["m"][planner], res[planner].accuracy(), atol=1e-4)
+    assert table["m again"] == table["m"]
+
+
+def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):
+    from active_recognition.report import study_section
+    assert study_section(tmp_path / "missing.json", "S", "", []) == []
+    acc = {"a": {"learned": [0.5, 0.9], "random": [0.5, 0.8], "straight": [0.5, 0.85]},
+           "b": {"learned": [0.5, 0.7], "random": [0.5, 0.75], "straight": [0.5, 0.6]}}
+    (tmp_path / "s.json").write_text(json.dumps({"views": 2, "starts": 1, "acc": acc}))
+    text = "\n".join(study_section(tmp_path / "s.json", "Study", "intro", ["cmd"]))
+    assert "## Study: accuracy (%) after 2 views" in text and "cmd" in text
+    assert "| a | 90.0 | 80.0 | 85.0 | +5.0 |" in text
+    assert "| b | 70.0 | 75.0 | 60.0 | -5.0 |" in text

@@ -1,0 +1,51 @@
+"""Trained runs side by side: each run's view head against random and straight views, scored by
+that run's own classifier on the whole procedural test split (3 seeded initial views per object).
+
+Two studies feed docs/RESULTS.md:
+  ablations  -- the presets config/ablation_*.yaml (hidden size, radius), accuracy at 5 views;
+  view_head  -- joint-stage variants from one pre-trained classifier (step bound, initial step,
+                step weighting, REINFORCE), accuracy at 3 views.
+Writes docs/results/<study>.json and re-renders docs/RESULTS.md. Last line is JSON.
+"""
+import argparse
+import json
+from pathlib import Path
+
+from common import emit
+
+from active_recognition.evaluate import EvalConfig, compare_runs, write_json
+from active_recognition.report import write_results_page
+
+ROOT = Path(__file__).resolve().parents[1]
+VIEWS = {"ablations": 5, "view_head": 3}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("study", choices=sorted(VIEWS))
+    ap.add_argument("runs", nargs="+", metavar="LABEL=RUN_DIR",
+                    help="a label and a run folder holding final.pt, e.g. hidden_64=runs/ablation_hidden_64")
+    ap.add_argument("--starts", type=int, default=3, help="seeded initial views per test object")
+    ap.add_argument("--out", default=str(ROOT / "docs/results"))
+    args = ap.parse_args()
+    runs = {}
+    for item in args.runs:
+        label, sep, folder = item.partition("=")
+        path = Path(folder) / "final.pt"
+        if not sep or not label:
+            ap.error(f"{item!r}: expected LABEL=RUN_DIR")
+        if not path.is_file():
+            ap.error(f"{path}: no such checkpoint (train the run first)")
+        runs[label] = str(path)
+    acc = compare_runs(runs, starts=args.starts)
+    k = VIEWS[args.study]
+    data = {"views": k, "starts": args.starts, "acc": acc}
+    write_json(Path(args.out) / f"{args.study}.json", data)
+    summary = Path(args.out) / "summary.json"
+    if summary.is_file():
+        write_results_page(ROOT / "docs/RESULTS.md", json.loads(summary.read_text()), EvalConfig())
+    emit({"views": k, "acc": {r: {p: v[k - 1] for p, v in a.items()} for r, a in acc.items()}})
+
+
+if __name__ == "__main__":
+    main()
