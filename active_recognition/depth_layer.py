@@ -171,40 +171,30 @@ class DepthCamera:
         if rule not in GRADIENT_RULES:
             raise ValueError(f"gradient rule must be one of {GRADIENT_RULES}, got {rule!r}")
         views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
-        t, p = views[:, 0], views[:, 1]
-        d_rot = np.stack([geometry.rot_z(p) @ _drot_y(t), _drot_z(p) @ geometry.rot_y(t)], 1)
+        d_rot = geometry.view_rotation_derivatives(views[:, 0], views[:, 1])  # (B, 2, 3, 3)
         d_orig = d_rot[..., 2] * self.config.radius                           # (B, 2, 3)
+        rot = hits.rotations
         hit = hits.hit
-        dist = np.where(hit, hits.distance, 0.0)
-        w = self.local_dirs @ hits.rotations.transpose(0, 2, 1)               # (B, N, 3) rays
+        dist = np.where(hit, hits.distance, np.float32(0.0))                   # (B, N)
+        # Pixels run along the last axis (3 x N blocks): every ray is w = R l for its t = 0
+        # direction l, so all dot products become small per-view matrices times (3, N) blocks.
         if rule == "paper":
-            # X - p = -D w, so dD/dX = (X - p)/D = -w
-            dD = -w @ d_orig.transpose(0, 2, 1)                                # (B, N, 2)
+            # X - p = -D w, so dD/dX = (X - p)/D = -w and dD_k = -(R l).do_k = -(do_k R).l
+            dD = -((d_orig @ rot).astype(np.float32) @ self._dirs32_t)         # (B, 2, N)
         else:
-            n = hits.normals.astype(np.float64)
-            dw = self.local_dirs @ d_rot.transpose(0, 1, 3, 2)                 # (B, 2, N, 3)
-            nw = (n * w).sum(-1)
-            nw = np.where(np.abs(nw) < 1e-6, 1e-6, nw)
-            n_do = n @ d_orig.transpose(0, 2, 1)                               # (B, N, 2)
-            n_dw = (n[:, None] * dw).sum(-1).transpose(0, 2, 1)                # (B, N, 2)
-            dD = -(n_do + dist[..., None] * n_dw) / nw[..., None]
+            n = np.ascontiguousarray(hits.normals.transpose(0, 2, 1))          # (B, 3, N)
+            mats = np.concatenate([rot[:, None], d_rot], 1).reshape(-1, 9, 3)  # R, dR_theta, dR_phi
+            w = (mats.astype(np.float32) @ self._dirs32_t).reshape(-1, 3, 3, n.shape[-1])
+            proj = (w * n[:, None]).sum(2)                       # (B, 3, N): n.w, n.dw_theta, n.dw_phi
+            nw = proj[:, 0]
+            nw = np.where(np.abs(nw) < 1e-6, np.float32(1e-6), nw)
+            n_do = d_orig.astype(np.float32) @ n                                # (B, 2, N)
+            dD = -(n_do + dist[:, None] * proj[:, 1:]) / nw[:, None]
         near, far = self.config.depth_range
-        z = dist * self.cos
-        inside = hit & ((z - near) * (255.0 / (far - near)) < 255.0) & (z > near)
-        scale = np.where(inside, self.cos * 255.0 / (far - near), 0.0)
-        return dD * scale[..., None]
-
-
-def _drot_y(a):
-    c, s, z = np.cos(a), np.sin(a), np.zeros_like(a)
-    return np.stack([np.stack([-s, z, c], -1), np.stack([z, z, z], -1),
-                     np.stack([-c, z, -s], -1)], -2)
-
-
-def _drot_z(a):
-    c, s, z = np.cos(a), np.sin(a), np.zeros_like(a)
-    return np.stack([np.stack([-s, -c, z], -1), np.stack([c, -s, z], -1),
-                     np.stack([z, z, z], -1)], -2)
+        z = dist * self._cos32
+        inside = hit & (z > near) & (z < far)
+        scale = np.where(inside, self._cos32 * np.float32(255.0 / (far - near)), np.float32(0.0))
+        return (dD * scale[:, None]).transpose(0, 2, 1)                        # (B, N, 2)
 
 
 def trace_all(cameras, views):
@@ -228,12 +218,12 @@ class _RenderViews(torch.autograd.Function):
 
     @staticmethod
     def backward(ctx, grad):
-        g = grad.detach().cpu().numpy().astype(np.float64)
+        g = grad.detach().cpu().numpy().reshape(len(grad), -1).astype(np.float32)
 
         def view_grad(i):
             jac = ctx.cameras[i].jacobian(ctx.hits[i], ctx.views[i], ctx.rule)[0]   # (N, 2)
-            per_pixel = g[i].reshape(-1, 1) * jac
-            return per_pixel.mean(0) if ctx.reduction == "mean" else per_pixel.sum(0)
+            total = g[i] @ jac                           # sum over pixels of dL/dd * dd/dview
+            return total / len(jac) if ctx.reduction == "mean" else total
 
         # sequential: BLAS from pool threads beside torch's own backward aborted a DDP worker once
         out = np.stack([view_grad(i) for i in range(len(g))])

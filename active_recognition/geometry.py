@@ -45,6 +45,19 @@ def view_rotation(theta, phi):
     return m
 
 
+def view_rotation_derivatives(theta, phi):
+    """d/dtheta and d/dphi of view_rotation, shape (..., 2, 3, 3)."""
+    t, p = np.asarray(theta, dtype=np.float64), np.asarray(phi, dtype=np.float64)
+    ct, st, cp, sp = np.cos(t), np.sin(t), np.cos(p), np.sin(p)
+    m = np.zeros(np.broadcast(t, p).shape + (2, 3, 3))
+    m[..., 0, 0, 0], m[..., 0, 0, 2] = -cp * st, cp * ct      # Rz(phi) dRy/dtheta
+    m[..., 0, 1, 0], m[..., 0, 1, 2] = -sp * st, sp * ct
+    m[..., 0, 2, 0], m[..., 0, 2, 2] = -ct, -st
+    m[..., 1, 0, 0], m[..., 1, 0, 1], m[..., 1, 0, 2] = -sp * ct, -cp, -sp * st   # dRz/dphi Ry(theta)
+    m[..., 1, 1, 0], m[..., 1, 1, 1], m[..., 1, 1, 2] = cp * ct, -sp, cp * st
+    return m
+
+
 def camera_position(theta, phi, radius=1.0):
     """(..., 3) Cartesian camera position of view (theta, phi) on a sphere of `radius`."""
     t, p = np.asarray(theta, dtype=np.float64), np.asarray(phi, dtype=np.float64)

@@ -27,11 +27,17 @@ def timed(fn):
     return wrapper
 
 
+def sync(device):
+    if device.type == "cuda":
+        torch.cuda.synchronize(device)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--batches", type=int, default=12)
     ap.add_argument("--batch-size", type=int, default=32)
     ap.add_argument("--rule", default="surface", choices=("paper", "surface"))
+    ap.add_argument("--device", default="cpu", help="where the network runs (rendering is on the CPU)")
     args = ap.parse_args()
     # time every render and every depth-layer backward (the Jacobian), wherever they are called
     depth_layer.trace_all = timed(depth_layer.trace_all)
@@ -40,7 +46,8 @@ def main():
     torch.manual_seed(0)
     shapes = Shapes(open_dataset("procedural", split="train", cache_dir=default_cache_dir()),
                     CameraConfig(64, 64))
-    model = RecurrentAttention(ModelConfig())
+    device = torch.device(args.device)
+    model = RecurrentAttention(ModelConfig()).to(device)
     net = JointLoss(model, steps=10, rule=args.rule, reduction="mean")
     opt = torch.optim.Adam(model.parameters(), 3e-4)
     rng = np.random.default_rng(0)
@@ -49,16 +56,19 @@ def main():
         idx = rng.permutation(len(shapes))[:args.batch_size]
         cams = shapes.cameras(idx)
         views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
-        y = torch.as_tensor(shapes.labels[idx])
+        y = torch.as_tensor(shapes.labels[idx], device=device)
         CLOCK["render"] = 0.0
         t0 = time.perf_counter()
         loss, _ = net(cams, views, y)
+        sync(device)
         t1 = time.perf_counter()
         render_fwd = CLOCK["render"]
         opt.zero_grad()
         loss.backward()
+        sync(device)
         t2 = time.perf_counter()
         opt.step()
+        sync(device)
         t3 = time.perf_counter()
         render_bwd = CLOCK["render"] - render_fwd
         if b >= 2:  # warm-up batches build the cameras' embree scenes
@@ -71,7 +81,7 @@ def main():
     emit({"episodes_per_s": eps, "batch_size": args.batch_size, "steps": 10, "image": 64,
           "share_render": render / total, "share_forward": fwd / total,
           "share_backward": bwd / total, "share_optimizer": step / total,
-          "torch_threads": torch.get_num_threads()})
+          "torch_threads": torch.get_num_threads(), "device": args.device})
 
 
 if __name__ == "__main__":

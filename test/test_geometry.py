@@ -90,3 +90,13 @@ def test_straight_path_is_a_great_circle_with_even_steps():
         np.testing.assert_allclose(steps, 0.4, atol=1e-9)
         normal = np.cross(pts[0], pts[1])
         np.testing.assert_allclose(pts @ normal, 0, atol=1e-9)  # all on one plane: a great circle
+
+
+def test_view_rotation_derivatives_match_finite_differences(rng):
+    t, p = rng.uniform(0, math.pi, 5), rng.uniform(-math.pi, math.pi, 5)
+    d = g.view_rotation_derivatives(t, p)
+    h = 1e-6
+    dt = (g.view_rotation(t + h, p) - g.view_rotation(t - h, p)) / (2 * h)
+    dp = (g.view_rotation(t, p + h) - g.view_rotation(t, p - h)) / (2 * h)
+    np.testing.assert_allclose(d[:, 0], dt, atol=1e-8)
+    np.testing.assert_allclose(d[:, 1], dp, atol=1e-8)
