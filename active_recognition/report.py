@@ -192,16 +192,18 @@ seeded initial view each of the 50, the same for every planner). The models and 
 
 ```
 active-recognition train --config config/train_procedural.yaml   # learned: the shipped model
-for run in learned_t reinforce; do mkdir -p runs/$run; cp runs/ship/pretrained.pt runs/$run/; done
-active-recognition train --out runs/learned_t --stage joint --joint-epochs 12     # timing re-run
+for run in learned_t reinforce reinforce_t; do mkdir -p runs/$run; cp runs/ship/pretrained.pt runs/$run/; done
 active-recognition train --config config/train_reinforce.yaml    # REINFORCE, same pre-training
+active-recognition train --out runs/learned_t --stage joint --joint-epochs 12     # timing re-runs
+active-recognition train --config config/train_reinforce.yaml --out runs/reinforce_t
 python benchmarks/planners.py --checkpoint runs/ship/final.pt \\
     --reinforce-checkpoint runs/reinforce/final.pt \\
-    --learned-metrics runs/learned_t/metrics.csv --reinforce-metrics runs/reinforce/metrics.csv
+    --learned-metrics runs/learned_t/metrics.csv --reinforce-metrics runs/reinforce_t/metrics.csv
 ```
-The two joint-stage runs behind the training-time comparison ran one after the other on an
-otherwise idle 2-core machine (`docs/results/*_metrics.csv`); the shipped model's own run shared
-the machine with other work, so its wall-clock is not used.
+The two joint-stage timing re-runs behind the training-time comparison ran one after the other on
+an otherwise idle 2-core machine with the current depth layer (`docs/results/*_metrics.csv`); the
+shipped model's own run is older and shared the machine with other work, so its wall-clock is
+not used.
 """
 
 
