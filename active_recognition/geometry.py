@@ -16,20 +16,6 @@ import numpy as np
 CUBE_RADIUS = math.sqrt(3.0) / 2.0  # bounding-sphere radius of [-0.5, 0.5]^3
 
 
-def rot_y(a):
-    c, s = np.cos(a), np.sin(a)
-    z, o = np.zeros_like(c), np.ones_like(c)
-    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1),
-                     np.stack([-s, z, c], -1)], -2)
-
-
-def rot_z(a):
-    c, s = np.cos(a), np.sin(a)
-    z, o = np.zeros_like(c), np.ones_like(c)
-    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1),
-                     np.stack([z, z, o], -1)], -2)
-
-
 def view_rotation(theta, phi):
     """Rz(phi) @ Ry(theta), shape (..., 3, 3): maps the t = 0 camera frame to view (t, p)."""
     t, p = np.asarray(theta, dtype=np.float64), np.asarray(phi, dtype=np.float64)

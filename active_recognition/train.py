@@ -84,15 +84,19 @@ def step_weights(steps, weighting="uniform"):
     return w / w.sum()
 
 
-def set_initial_step(model, step):
-    """Make the untrained view head walk a fixed increment: FC_loc's bias = atanh(step / bound)."""
-    bound = model.config.max_step
+def initial_step_bias(step, bound):
+    """FC_loc's bias that makes the untrained view head walk `step`: atanh(step / bound)."""
     ratio = torch.as_tensor([float(v) for v in step]) / bound
     if ratio.abs().max() >= 1:
         raise ValueError(f"initial step {list(step)} must lie inside the increment bound "
                          f"max_step = {bound}")
+    return torch.atanh(ratio)
+
+
+def set_initial_step(model, step):
+    """Make the untrained view head walk a fixed increment."""
     with torch.no_grad():
-        model.locate.bias.copy_(torch.atanh(ratio))
+        model.locate.bias.copy_(initial_step_bias(step, model.config.max_step))
 
 
 class Shapes:
@@ -243,6 +247,8 @@ def train(cfg: TrainConfig, progress=True):
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
     mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
+    if cfg.initial_step is not None:  # refuse it now, not after pre-training
+        initial_step_bias(cfg.initial_step, mcfg.max_step)
     model = RecurrentAttention(mcfg).to(device)
     camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
     shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
