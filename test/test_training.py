@@ -10,6 +10,7 @@ import torch
 from active_recognition import checkpoint
 from active_recognition.checkpoint import CheckpointError
 from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.train import TrainConfig, train
 
 TINY = dict(pretrain_epochs=1, joint_epochs=2, batch_size=6, max_shapes=30, steps=3,
             views_per_shape=2, eval_shapes=0, checkpoint_every=2, seed=3,
