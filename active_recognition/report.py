@@ -299,7 +299,10 @@ def write_results_page(path, s, cfg):
         results / "ablations.json", "Ablations",
         "The presets config/ablation_*.yaml: full runs (25 pre-training and 12 joint epochs) that "
         "change one thing of the shipped configuration. Radius 1.0 with hidden size 256 is the "
-        "shipped configuration itself, so the two presets are one run. Same scoring as above.",
+        "shipped configuration itself, so the two presets are one run. Same scoring as above. "
+        "The field of view follows the radius (the bounding sphere always fills the image, "
+        "120 degrees at most), so a larger radius means less perspective, not a smaller object; "
+        "in the paper the object shrank and R = 1 was best.",
         [f"active-recognition train --config config/ablation_{a}.yaml" for a in ABLATIONS]
         + ["python benchmarks/runs_table.py ablations " + " ".join(
             f"{a}=runs/ablation_{a}" for a in ABLATIONS)])
