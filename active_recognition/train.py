@@ -84,6 +84,11 @@ def step_weights(steps, weighting="uniform"):
     return w / w.sum()
 
 
+def steps_loss(out, labels, weights):
+    """The episode's loss: per-step cross-entropies, weighted (weights from step_weights)."""
+    return sum(w * nn.functional.cross_entropy(s.logits, labels) for w, s in zip(weights, out))
+
+
 def initial_step_bias(step, bound):
     """FC_loc's bias that makes the untrained view head walk `step`: atanh(step / bound)."""
     ratio = torch.as_tensor([float(v) for v in step]) / bound
@@ -139,8 +144,7 @@ class JointLoss(nn.Module):
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
-        loss = sum(w * nn.functional.cross_entropy(s.logits, labels)
-                   for w, s in zip(self.weights, out))
+        loss = steps_loss(out, labels, self.weights)
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
 
@@ -162,7 +166,7 @@ class ReinforceLoss(nn.Module):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      exploration_std=self.std)
         out = run(ep, cameras, views, self.steps)
-        ce = sum(w * nn.functional.cross_entropy(s.logits, labels) for w, s in zip(self.weights, out))
+        ce = steps_loss(out, labels, self.weights)
         correct = (out[-1].logits.argmax(1) == labels).float()
         gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
         reward = correct + self.entropy_weight * gain
