@@ -100,6 +100,24 @@ def score_shared(net, shapes, ro: Rollout, chunk=50):
     ro.shared_probs = np.concatenate(out)
 
 
+def checkpoint_split(path, cfg: EvalConfig, splits=None):
+    """(model, classes, cfg's dataset split as the model's camera sees it) for a checkpoint
+    (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
+    splits (and their built cameras) for the next checkpoint with the same camera."""
+    model, classes, _ = checkpoint.load_model(path)
+    size, radius = model.config.image_size, model.config.radius
+    splits = {} if splits is None else splits
+    if (size, radius) not in splits:
+        splits[size, radius] = Shapes(open_dataset(cfg.dataset, cfg.root, cfg.split,
+                                                   cache_dir=default_cache_dir()),
+                                      CameraConfig(size, size, radius=radius))
+    shapes = splits[size, radius]
+    if list(shapes.ds.classes) != classes:
+        raise ValueError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
+                         f"not the dataset's {shapes.ds.classes}")
+    return model, classes, shapes
+
+
 def evaluate(cfg: EvalConfig, progress=True):
     """Run every planner; write the report under cfg.out; return {planner: Rollout}."""
     for name in cfg.planners:
@@ -108,13 +126,7 @@ def evaluate(cfg: EvalConfig, progress=True):
     if "reinforce" in cfg.planners and not cfg.reinforce_checkpoint:
         raise ValueError("the reinforce planner needs --reinforce-checkpoint (a model trained "
                          "with 'train --policy reinforce')")
-    model, classes, _ = checkpoint.load_model(cfg.checkpoint)
-    size = model.config.image_size
-    camera = CameraConfig(size, size, radius=model.config.radius)
-    cache = default_cache_dir()
-    test = Shapes(open_dataset(cfg.dataset, cfg.root, cfg.split, cache_dir=cache), camera)
-    if list(test.ds.classes) != classes:
-        raise ValueError(f"the checkpoint's classes {classes} are not the dataset's {test.ds.classes}")
+    model, classes, test = checkpoint_split(cfg.checkpoint, cfg)
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
     models = {"reinforce": checkpoint.load_model(cfg.reinforce_checkpoint, classes)[0]
               if cfg.reinforce_checkpoint else None}
@@ -128,7 +140,8 @@ def evaluate(cfg: EvalConfig, progress=True):
     out.mkdir(parents=True, exist_ok=True)
     if cfg.shared:
         from .shared_classifier import load_or_train
-        train = Shapes(open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache), camera)
+        train = Shapes(open_dataset(cfg.dataset, cfg.root, "train", cache_dir=default_cache_dir()),
+                       test.camera)
         net = load_or_train(out / "shared_classifier.pt", train, classes, seed=cfg.seed,
                             progress=progress)
         for ro in results.values():
@@ -194,15 +207,7 @@ def compare_runs(checkpoints, planners=("learned", "random", "straight"), starts
                      objects=objects)
     out, splits = {}, {}
     for label, path in checkpoints.items():
-        model, classes, _ = checkpoint.load_model(path)
-        size, radius = model.config.image_size, model.config.radius
-        if (size, radius) not in splits:
-            splits[size, radius] = Shapes(open_dataset(dataset, root, split, cache_dir=default_cache_dir()),
-                                          CameraConfig(size, size, radius=radius))
-        shapes = splits[size, radius]
-        if list(shapes.ds.classes) != classes:
-            raise ValueError(f"{path}: the checkpoint's classes {classes} are not the dataset's "
-                             f"{shapes.ds.classes}")
+        model, _, shapes = checkpoint_split(path, cfg, splits)
         idx, st = sample_episodes(objects, len(shapes), starts, seed)
         out[label] = {n: np.round(rollout(n, model, shapes, idx, st, cfg).accuracy(), 4).tolist()
                       for n in planners}
