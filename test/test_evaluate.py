@@ -136,3 +136,12 @@ def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):
     assert "## Study: accuracy (%) after 2 views" in text and "cmd" in text
     assert "| a | 90.0 | 80.0 | 85.0 | +5.0 |" in text
     assert "| b | 70.0 | 75.0 | 60.0 | -5.0 |" in text
+
+
+def test_a_checkpoint_of_other_classes_is_refused(results, tmp_path):
+    from active_recognition.evaluate import compare_runs
+    model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, feature_size=8))
+    checkpoint.save(tmp_path / "abc.pt", {"model": model.state_dict(), "model_args": model.config.to_dict(),
+                                          "classes": ["a", "b", "c"]})
+    with pytest.raises(ValueError, match="abc.pt: the checkpoint's classes"):
+        compare_runs({"abc": str(tmp_path / "abc.pt")}, objects=2, steps=1, starts=1)
