@@ -17,6 +17,13 @@ FORMAT = "active_recognition/1"
 SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
 
 
+def shipped(dataset="procedural"):
+    """The shipped model of an embedded dataset."""
+    if dataset not in ("procedural", "twins"):
+        raise ValueError(f"shipped models exist for procedural and twins, not {dataset!r}")
+    return SHIPPED.with_name(f"{dataset}.pt")
+
+
 class CheckpointError(ValueError):
     """A checkpoint file that is not ours or does not fit; the message says which and why."""
 

@@ -125,7 +125,7 @@ def cmd_train(args):
         if flag is not None and flag is not False:
             values[name] = flag
     model = dict(values.get("model") or {})
-    for key in ("hidden_size", "encoder", "max_step", "radius"):
+    for key in ("hidden_size", "encoder", "max_step", "radius", "view_input", "candidates"):
         if getattr(args, key) is not None:
             model[key] = getattr(args, key)
     values["model"] = model
@@ -151,7 +151,11 @@ def add_train(sub):
     p.add_argument("--root", help="dataset root folder")
     p.add_argument("--out", help="run folder for checkpoints and metrics.csv")
     p.add_argument("--stage", choices=("pretrain", "joint", "all"), help="which stage(s) to run")
-    p.add_argument("--policy", choices=("learned", "reinforce"), help="how the view head learns")
+    p.add_argument("--policy", choices=("learned", "reinforce", "imitation"),
+                   help="how the view head learns: end to end through the depth layer (learned), "
+                        "REINFORCE, or FC_view imitating the oracle (imitation, needs --candidates)")
+    p.add_argument("--imitation-mix", dest="imitation_mix", type=float,
+                   help="imitation: chance that a training step follows the oracle (0.5)")
     p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=int, help="stage 1 epochs")
     p.add_argument("--joint-epochs", dest="joint_epochs", type=int, help="stage 2 epochs")
     p.add_argument("--batch-size", dest="batch_size", type=int, help="shapes per batch")
@@ -182,6 +186,10 @@ def add_train(sub):
     p.add_argument("--encoder", choices=("compact", "alexnet"), help="Conv2D encoder")
     p.add_argument("--max-step", dest="max_step", type=float, help="view increment bound, radians")
     p.add_argument("--radius", type=float, help="viewing-sphere radius R")
+    p.add_argument("--view-input", dest="view_input", action="store_true", default=None,
+                   help="feed the current view to the RNN (MV-RNN style)")
+    p.add_argument("--candidates", type=int,
+                   help="size of FC_view, the head scoring candidate views (imitation; 0 = none)")
     p.set_defaults(func=cmd_train)
 
 
@@ -191,14 +199,21 @@ def cmd_demo(args):
         raise ValueError("the demo needs ROS 2's rclpy: install with pip install '.[ros]' "
                          "or source a ROS 2 install")
     from .nodes.demo import run_demo
-    run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "")
+    run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
+             planner=args.planner, dataset=args.dataset)
 
 
 def add_demo(sub):
     p = sub.add_parser("demo", help="closed loop over ROS topics: recognizer + simulated camera")
-    p.add_argument("--objects", type=int, default=10, help="procedural test objects to recognise")
+    from .recognizer import NODE_PLANNERS
+    p.add_argument("--objects", type=int, default=10, help="test objects to recognise")
+    p.add_argument("--dataset", choices=("procedural", "twins"), default="procedural",
+                   help="embedded dataset whose test objects the simulated camera shows")
     p.add_argument("--seed", type=int, default=0, help="which objects and initial views")
-    p.add_argument("--checkpoint", default=None, help="model file (default: the shipped one)")
+    p.add_argument("--checkpoint", default=None,
+                   help="model file (default: the dataset's shipped model)")
+    p.add_argument("--planner", choices=NODE_PLANNERS, default="auto",
+                   help="next-view planner (auto: the model's best, as measured)")
     p.set_defaults(func=cmd_demo)
 
 
@@ -207,7 +222,14 @@ def cmd_evaluate(args):
 
     from .evaluate import EvalConfig, evaluate, summary, write_json
 
+    own = {}
+    for item in args.planner_checkpoint:
+        name, sep, path = item.partition("=")
+        if not sep or not name or not path:
+            raise ValueError(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
+        own[name] = path
     cfg = EvalConfig(checkpoint=args.checkpoint, reinforce_checkpoint=args.reinforce_checkpoint,
+                     planner_checkpoints=own,
                      planners=tuple(args.planners.split(",")), dataset=args.dataset,
                      root=args.root, split=args.split, objects=args.objects, starts=args.starts,
                      steps=args.steps, entropy_threshold=args.entropy_threshold, seed=args.seed,
@@ -234,6 +256,9 @@ def add_evaluate(sub):
     p.add_argument("--checkpoint", default=None, help="learned model (default: the shipped one)")
     p.add_argument("--reinforce-checkpoint", default=None,
                    help="model trained with 'train --policy reinforce' (for the reinforce planner)")
+    p.add_argument("--planner-checkpoint", action="append", default=[], metavar="PLANNER=FILE",
+                   help="a planner's own model, e.g. learned=runs/e2e/final.pt (repeatable); "
+                        "planners without one use --checkpoint")
     p.add_argument("--planners", default="learned,random,straight,oracle",
                    help=f"comma-separated, from {','.join(PLANNERS)}")
     p.add_argument("--dataset", choices=NAMES, default="procedural", help="dataset layout")

@@ -68,7 +68,7 @@ class Episode:
         """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255]."""
         depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
         depth = depth.reshape(len(self.view), *depth.shape[-2:])
-        logits, delta, self.hidden = self.model(depth, self.hidden)
+        logits, delta, self.hidden = self.model(depth, self.hidden, self.view)
         probs = logits.softmax(-1)
         h = entropy(probs)
         prev = self.entropies[-1] if self.entropies else torch.full_like(h, math.log(probs.shape[-1]))

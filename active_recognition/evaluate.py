@@ -26,8 +26,9 @@ from .train import Shapes
 
 @dataclass
 class EvalConfig:
-    checkpoint: str | None = None            # the learned model (default: the shipped one)
+    checkpoint: str | None = None            # the model (default: the shipped one)
     reinforce_checkpoint: str | None = None  # the REINFORCE-trained model, for "reinforce"
+    planner_checkpoints: dict = field(default_factory=dict)  # planner -> its own model file
     planners: tuple = ("learned", "random", "straight", "oracle")
     dataset: str = "procedural"
     root: str | None = None
@@ -54,6 +55,7 @@ class Rollout:
     gain: np.ndarray         # (N, T) information gain per step
     stopped_at: np.ndarray   # (N,) step of the entropy stop (1-based)
     shared_probs: np.ndarray = field(default=None)  # (N, T, C) shared classifier on views[:t]
+    path: np.ndarray = field(default=None)          # the fixed planner's path (k, 2)
 
     def accuracy(self, shared=False):
         probs = self.shared_probs if shared else self.probs
@@ -72,13 +74,13 @@ def sample_episodes(n_objects, total, starts, seed):
     return objects, rng.integers(0, 50, len(objects))
 
 
-def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100):
+def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fixed_path=None):
     initial = geometry.fibonacci_views(50)
     parts = []
     for b in range(0, len(objects), chunk):
         idx = objects[b:b + chunk]
         cams = shapes.cameras(idx)
-        planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates)
+        planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates, model, fixed_path)
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner)
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
@@ -123,27 +125,42 @@ def evaluate(cfg: EvalConfig, progress=True):
     for name in cfg.planners:
         if name not in PLANNERS:
             raise ValueError(f"planner must be among {PLANNERS}, got {name!r}")
-    if "reinforce" in cfg.planners and not cfg.reinforce_checkpoint:
+    paths = {**({"reinforce": cfg.reinforce_checkpoint} if cfg.reinforce_checkpoint else {}),
+             **cfg.planner_checkpoints}
+    if "reinforce" in cfg.planners and "reinforce" not in paths:
         raise ValueError("the reinforce planner needs --reinforce-checkpoint (a model trained "
                          "with 'train --policy reinforce')")
+    for name, path in paths.items():  # refuse a missing file now, not after an hour
+        if name not in PLANNERS or not Path(path).is_file():
+            raise ValueError(f"planner checkpoint {name}={path}: " + (
+                "no such planner" if name not in PLANNERS else "no such file"))
     model, classes, test = checkpoint_split(cfg.checkpoint, cfg)
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
-    models = {"reinforce": checkpoint.load_model(cfg.reinforce_checkpoint, classes)[0]
-              if cfg.reinforce_checkpoint else None}
-    results = {}
-    for name in cfg.planners:
-        results[name] = rollout(name, models.get(name) or model, test, objects, starts, cfg)
-        if progress:
-            print(f"{name}: accuracy after 1..{cfg.steps} views "
-                  f"{np.round(results[name].accuracy(), 3).tolist()}", flush=True)
+    models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
-    if cfg.shared:
+    net = fixed = None
+    if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
         train = Shapes(open_dataset(cfg.dataset, cfg.root, "train", cache_dir=default_cache_dir()),
                        test.camera)
         net = load_or_train(out / "shared_classifier.pt", train, classes, seed=cfg.seed,
                             progress=progress)
+        if "fixed" in cfg.planners:
+            from .view_sets import fixed_path
+            fixed, train_acc = fixed_path(net, train, seed=cfg.seed)
+            if progress:
+                print(f"fixed path {np.round(fixed, 3).tolist()} (shared-classifier accuracy "
+                      f"{train_acc:.3f} on the train split)", flush=True)
+    results = {}
+    for name in cfg.planners:
+        results[name] = rollout(name, models.get(name) or model, test, objects, starts, cfg,
+                                fixed_path=fixed)
+        results[name].path = fixed if name == "fixed" else None
+        if progress:
+            print(f"{name}: accuracy after 1..{cfg.steps} views "
+                  f"{np.round(results[name].accuracy(), 3).tolist()}", flush=True)
+    if cfg.shared:
         for ro in results.values():
             score_shared(net, test, ro)
     from .report import write_report
@@ -160,9 +177,23 @@ def summary(results):
          "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
          "early_stop": {n: dict(zip(("accuracy", "mean_views"), map(lambda v: round(v, 4), ro.early_stop())))
                         for n, ro in results.items()}}
+    s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
+    if "fixed" in results and results["fixed"].path is not None:
+        s["fixed_path"] = np.round(results["fixed"].path, 6).tolist()
     if all(ro.shared_probs is not None for ro in results.values()):
         s["acc_shared"] = {n: at(ro, True) for n, ro in results.items()}
+        s["stderr_3_shared"] = {n: standard_error(ro, True) for n, ro in results.items()}
     return s
+
+
+def standard_error(ro: Rollout, shared=False, views=3):
+    """Standard error of the accuracy after `views` views, with the starts of one object as one
+    sample (they are not independent): std of the per-object accuracies / sqrt(objects)."""
+    probs = ro.shared_probs if shared else ro.probs
+    correct = probs[:, views - 1].argmax(-1) == ro.labels
+    objects, inverse = np.unique(ro.objects, return_inverse=True)
+    per_object = np.bincount(inverse, correct) / np.bincount(inverse)
+    return round(float(per_object.std(ddof=1) / np.sqrt(len(objects))), 4) if len(objects) > 1 else 0.0
 
 
 def write_csv(path, results, classes):

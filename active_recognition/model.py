@@ -1,6 +1,10 @@
 """The recurrent 3D attentional network: Conv2D encoder, ReLU RNN cell, FC_class and FC_loc.
 
 SC (shape classifier) = encoder + cell (from a zero state) + FC_class; 3D-STN = encoder + FC_loc.
+Two options beyond the paper: `view_input` feeds the current view (the camera's unit position)
+to the RNN beside the image features, as MV-RNN does, so the state knows where each image was
+taken; `candidates` > 0 adds FC_view, a head that scores that many evenly spread candidate views
+(geometry.fibonacci_views) from h_t, trained by imitating the oracle (train --policy imitation).
 """
 from __future__ import annotations
 
@@ -21,12 +25,15 @@ class ModelConfig:
     hidden_size: int = 256      # h_t, the paper's best
     max_step: float = 0.8       # bound on |dtheta|, |dphi| per step, radians
     radius: float = 1.0         # viewing-sphere radius the model was trained at
+    view_input: bool = False    # feed the current view to the RNN (MV-RNN style)
+    candidates: int = 0         # > 0: FC_view scores this many candidate views (imitation head)
 
     def __post_init__(self):
         assert self.encoder in ENCODERS, f"encoder must be one of {ENCODERS}, got {self.encoder!r}"
         assert self.num_classes >= 2, f"need at least 2 classes, got {self.num_classes}"
         assert self.hidden_size >= 1 and self.feature_size >= 1, "sizes must be positive"
         assert 0 < self.max_step <= 3.15, f"max_step must be in (0, pi], got {self.max_step}"
+        assert self.candidates >= 0, f"candidates must be >= 0, got {self.candidates}"
 
     @property
     def image_size(self):
@@ -62,11 +69,14 @@ class RecurrentAttention(nn.Module):
         self.config = config
         build = compact_encoder if config.encoder == "compact" else alexnet_encoder
         self.encoder = build(config.feature_size)
-        self.cell = nn.RNNCell(config.feature_size, config.hidden_size, nonlinearity="relu")
+        inputs = config.feature_size + (3 if config.view_input else 0)
+        self.cell = nn.RNNCell(inputs, config.hidden_size, nonlinearity="relu")
         self.classify = nn.Linear(config.hidden_size, config.num_classes)   # FC_class
         self.locate = nn.Linear(config.hidden_size, 2)                      # FC_loc
         nn.init.normal_(self.locate.weight, std=0.01)
         nn.init.zeros_(self.locate.bias)
+        if config.candidates:
+            self.score_views = nn.Linear(config.hidden_size, config.candidates)  # FC_view
 
     def init_hidden(self, batch, device=None):
         return torch.zeros(batch, self.config.hidden_size, device=device)
@@ -77,13 +87,25 @@ class RecurrentAttention(nn.Module):
         assert depth.shape[-2:] == (size, size), f"expected {size}x{size} depth, got {tuple(depth.shape)}"
         return self.encoder(1.0 - depth.unsqueeze(1) / 255.0)  # background 0, near surfaces ~1
 
-    def forward(self, depth, hidden):
-        """One step: (logits (B, C), view increment (B, 2), new hidden (B, hidden_size))."""
-        hidden = self.cell(self.features(depth), hidden)
+    def cell_input(self, features, view=None):
+        """The RNN's input: e_t, with the view's unit camera position (B, 3) when view_input."""
+        if not self.config.view_input:
+            return features
+        if view is None:
+            raise ValueError("this model reads the current view (view_input): pass view (B, 2)")
+        t, p = view.detach().to(features.dtype).unbind(-1)
+        position = torch.stack([t.sin() * p.cos(), t.sin() * p.sin(), t.cos()], -1)
+        return torch.cat([features, position.expand(len(features), 3)], -1)
+
+    def forward(self, depth, hidden, view=None):
+        """One step from the image(s) taken at view (B, 2): (logits (B, C), view increment (B, 2),
+        new hidden (B, hidden_size))."""
+        hidden = self.cell(self.cell_input(self.features(depth), view), hidden)
         delta = self.config.max_step * torch.tanh(self.locate(hidden))
         return self.classify(hidden), delta, hidden
 
-    def classify_image(self, depth):
+    def classify_image(self, depth, view=None):
         """The shape classifier alone: logits from one image, from a zero state."""
-        hidden = self.cell(self.features(depth), self.init_hidden(len(depth), depth.device))
+        hidden = self.cell(self.cell_input(self.features(depth), view),
+                           self.init_hidden(len(depth), depth.device))
         return self.classify(hidden)

@@ -4,6 +4,11 @@ learned    -- the model's own FC_loc (the episode's default; `None` here)
 random     -- uniform on the sphere
 straight   -- a straight path round the sphere from the initial view (Pairwise, 3DShapeNets)
 reinforce  -- FC_loc of a model trained with REINFORCE (MV-RNN-style); at test time its mean
+fixed      -- the best fixed path: after the first view, the views (fixed in the object frame, the
+              same for every object) that score best on the training split (view_sets), then
+              random views; the honest test of whether a planner adapts
+imitation  -- FC_view of a model trained to imitate the oracle (train --policy imitation): the
+              best-scored candidate view not yet visited; needs no mesh and renders nothing
 oracle     -- PRIVILEGED upper bound: renders every candidate view of the object and takes the
               one whose next prediction has the least entropy (the largest information gain)
 """
@@ -16,7 +21,7 @@ import torch
 
 from . import geometry
 
-PLANNERS = ("learned", "random", "straight", "reinforce", "oracle")
+PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
 
 
 class RandomPlanner:
@@ -37,6 +42,50 @@ class StraightPlanner:
 
     def next_view(self, episode, step):
         return np.stack([path[episode.steps % len(path)] for path in self.paths])
+
+
+class FixedPlanner:
+    """The views `path` (k, 2) after the first, the same for every object; then random views."""
+
+    def __init__(self, path, seed=0):
+        self.path = np.asarray(path, dtype=np.float64).reshape(-1, 2)
+        self.random = RandomPlanner(seed)
+
+    def next_view(self, episode, step):
+        if episode.steps <= len(self.path):
+            return np.repeat(self.path[episode.steps - 1][None], len(episode.view), 0)
+        return self.random.next_view(episode, step)
+
+
+def nearest_candidates(views, candidates):
+    """Index of the candidate nearest to each view (B, 2) on the sphere: (B,)."""
+    pos = geometry.camera_position(*np.asarray(views, dtype=np.float64).T)          # (B, 3)
+    cand = geometry.camera_position(*np.asarray(candidates, dtype=np.float64).T)    # (K, 3)
+    return np.argmax(pos @ cand.T, axis=1)
+
+
+def visited_mask(episode, candidates):
+    """(B, K) bool: the candidates nearest to the views the episode has taken."""
+    mask = np.zeros((len(episode.view), len(candidates)), dtype=bool)
+    for view in episode.views:
+        mask[np.arange(len(mask)), nearest_candidates(view.detach().cpu().numpy(), candidates)] = True
+    return mask
+
+
+class ImitationPlanner:
+    """FC_view's best-scored candidate view among those not yet visited (never a revisit)."""
+
+    def __init__(self, model):
+        if not getattr(model.config, "candidates", 0):
+            raise ValueError("the imitation planner needs a model with a view-scoring head "
+                             "(trained with 'train --policy imitation')")
+        self.candidates = geometry.fibonacci_views(model.config.candidates)
+
+    def next_view(self, episode, step):
+        with torch.no_grad():
+            scores = episode.model.score_views(episode.hidden).cpu().numpy()
+        scores[visited_mask(episode, self.candidates)] = -np.inf
+        return self.candidates[scores.argmax(1)]
 
 
 class OraclePlanner:
@@ -61,14 +110,16 @@ class OraclePlanner:
                     depth = torch.from_numpy(cam.render(self.candidates))      # (K, H, W)
                     self.features[i] = model.features(depth.to(episode.view.device))
                 e = self.features[i]
-                hidden = model.cell(e, episode.hidden[i:i + 1].expand(len(e), -1))
+                views = torch.as_tensor(self.candidates, dtype=torch.float32, device=e.device)
+                hidden = model.cell(model.cell_input(e, views),
+                                    episode.hidden[i:i + 1].expand(len(e), -1))
                 p = model.classify(hidden).softmax(-1)
                 h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1)
                 best.append(self.candidates[int(h.argmin())])
         return np.stack(best)
 
 
-def make_planner(name, cameras=None, seed=0, candidates=50):
+def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_path=None):
     """A planner by name; None for the model's own view head (learned, reinforce)."""
     if name not in PLANNERS:
         raise ValueError(f"planner must be one of {PLANNERS}, got {name!r}")
@@ -78,6 +129,15 @@ def make_planner(name, cameras=None, seed=0, candidates=50):
         return RandomPlanner(seed)
     if name == "straight":
         return StraightPlanner()
+    if name == "imitation":
+        if model is None:
+            raise ValueError("the imitation planner needs its model")
+        return ImitationPlanner(model)
+    if name == "fixed":
+        if fixed_path is None:
+            raise ValueError("the fixed planner needs its path (view_sets.fixed_path, or a "
+                             "checkpoint that carries 'fixed_path')")
+        return FixedPlanner(fixed_path, seed)
     if cameras is None:
         raise ValueError("the oracle planner needs the objects' cameras (it is privileged)")
     return OraclePlanner(cameras, candidates)

@@ -2,7 +2,9 @@
 
 Wraps one Episode (B = 1) with the conversions a camera needs: REP 118 metric depth -> the
 network's normalised depth (resampled when the resolution differs at the same field of view).
-The ROS node is a thin shell around this class.
+The next view comes from a planner (policies.py); "auto" is the one the checkpoint names as its
+best (`default_planner`, measured by benchmarks/planners.py), else FC_view when the model has
+one, else its own FC_loc. The ROS node is a thin shell around this class.
 """
 from __future__ import annotations
 
@@ -14,6 +16,19 @@ import torch
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig, normalise_depth, resample
 from .episode import Episode, EpisodeConfig
+from .policies import PLANNERS, make_planner
+
+NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
+
+
+def choose_planner(name, model, ckpt):
+    """The planner name `name` stands for with this checkpoint ("auto": its best)."""
+    if name not in NODE_PLANNERS:
+        raise ValueError(f"planner must be one of {NODE_PLANNERS} (the oracle needs the object's "
+                         f"mesh, so a robot cannot use it), got {name!r}")
+    if name != "auto":
+        return name
+    return ckpt.get("default_planner") or ("imitation" if model.config.candidates else "learned")
 
 
 @dataclass
@@ -27,11 +42,13 @@ class Observation:
 
 
 class ActiveRecognizer:
-    def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0):
-        self.model, self.classes, _ = checkpoint.load_model(checkpoint_path or None)
+    def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto"):
+        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path or None)
         size = self.model.config.image_size
         self.camera = CameraConfig(size, size, radius=self.model.config.radius)
-        self.episode = Episode(self.model, episode)
+        self.planner = choose_planner(planner, self.model, ckpt)
+        self.episode = Episode(self.model, episode, make_planner(
+            self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")))
         self.rng = np.random.default_rng(seed)
         self.initial_views = geometry.fibonacci_views(50)
         self.reset()

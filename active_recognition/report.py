@@ -237,8 +237,13 @@ def study_section(path, title, intro, commands):
             table(rows, ["run", "learned", "random", "straight", "learned - best baseline"])]
 
 
-def write_results_page(path, s, cfg):
-    """docs/RESULTS.md: our tables beside the paper's figures, and the commands behind them."""
+def write_results_page(path, results):
+    """docs/RESULTS.md from the summaries under `results` (summary.json: procedural;
+    twins/summary.json and twins/difficulty.json: the twins benchmark), beside the paper's."""
+    results = Path(results)
+    s = json.loads((results / "summary.json").read_text())
+    threshold = s.get("entropy_threshold", 0.1)
+
     def rows(key):
         return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()] for k in s[key]]
 
@@ -263,7 +268,7 @@ def write_results_page(path, s, cfg):
     parts += ["", "## Information gain per step (nats)", "",
               table([[k] + [f"{g:.3f}" for g in v] for k, v in s["gain"].items()],
                     ["planner"] + [str(i + 1) for i in range(len(next(iter(s["gain"].values()))))]),
-              "", f"## Early stop (entropy < {cfg.entropy_threshold})", "",
+              "", f"## Early stop (entropy < {threshold})", "",
               table([[k, f"{100 * v['accuracy']:.1f}", f"{v['mean_views']:.2f}"]
                      for k, v in s["early_stop"].items()], ["planner", "accuracy %", "mean views"]),
               "", "## Training time: end to end vs REINFORCE (joint stage, same pre-trained classifier)", "",
@@ -281,7 +286,6 @@ def write_results_page(path, s, cfg):
               + ", ".join(f"{k} {v}" for k, v in PAPER_TRAINING_HOURS.items()) + ".",
               "", "![accuracy](results/accuracy_vs_views.png) ![gain](results/information_gain.png)",
               "", "![trajectories](results/trajectories.png)"]
-    results = Path(path).parent / "results"
     parts += study_section(
         results / "view_head.json", "View-head study",
         "Joint-stage variants from one pre-trained classifier (the shipped model's), 12 epochs "
@@ -306,7 +310,78 @@ def write_results_page(path, s, cfg):
         [f"active-recognition train --config config/ablation_{a}.yaml" for a in ABLATIONS]
         + ["python benchmarks/runs_table.py ablations " + " ".join(
             f"{a}=runs/ablation_{a}" for a in ABLATIONS)])
+    parts += twins_section(results / "twins")
     parts.append("")
     tmp = Path(path).with_name(f".{Path(path).name}.tmp")
     tmp.write_text("\n".join(parts))
     os.replace(tmp, path)
+
+
+TWINS_COMMANDS = """active-recognition train --config config/train_twins.yaml                    # imitation: twins.pt
+for run in twins_learned twins_reinforce; do mkdir -p runs/$run; cp runs/twins/pretrained.pt runs/$run/; done
+active-recognition train --config config/train_twins.yaml --out runs/twins_learned --stage joint \\
+    --policy learned --joint-epochs 12                                        # twins_learned.pt
+active-recognition train --config config/train_twins.yaml --out runs/twins_reinforce --stage joint \\
+    --policy reinforce --joint-epochs 12                                      # twins_reinforce.pt
+python benchmarks/dataset_difficulty.py --dataset twins --out docs/results/twins/difficulty.json
+python benchmarks/planners.py --dataset twins \\
+    --learned-metrics runs/twins_learned/metrics.csv --reinforce-metrics runs/twins_reinforce/metrics.csv"""
+
+
+def twins_section(folder):
+    """The twins benchmark: its headroom, and every planner on the same episodes."""
+    folder = Path(folder)
+    if not (folder / "summary.json").is_file():
+        return []
+    s = json.loads((folder / "summary.json").read_text())
+    parts = ["", "# Results on the twins benchmark", "",
+             "Six pairs of look-alike furniture; the two classes of a pair differ only by what sits "
+             "at the back of a niche that is seen from about 45 degrees around one face, and each "
+             "pair has its niche on another face (README, 'The twins benchmark'). Every planner "
+             "runs the same episodes: the whole test split (600 objects), 3 seeded initial views "
+             "each (1,800 episodes). The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
+    if (folder / "difficulty.json").is_file():
+        d = json.loads((folder / "difficulty.json").read_text())
+        parts += ["", "## Headroom (`benchmarks/dataset_difficulty.py`, one view-pooling classifier "
+                  "trained on random views)", "",
+                  table([[f"{100 * d[k]:.1f}" for k in ("acc_1_view", "acc_3_random", "acc_3_best",
+                                                        "acc_3_best_fixed", "acc_9_views")]],
+                        ["1 random view", "3 random", "best 3 of 50 (privileged)",
+                         "random + best fixed 2", "9 spread"]),
+                  "", f"Best 3 minus 3 random: {100 * (d['acc_3_best'] - d['acc_3_random']):+.1f} "
+                  f"points; best 3 minus the best fixed path: "
+                  f"{100 * (d['acc_3_best'] - d['acc_3_best_fixed']):+.1f} points."]
+
+    def rows(key, err):
+        return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()]
+                + [f"{100 * s[err][k]:.1f}"] for k in s[key]]
+
+    parts += ["", "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own classifier", "",
+              table(rows("acc", "stderr_3"), ["planner", "3", "6", "9", "s.e. at 3"]),
+              "", "## The same views scored by the shared multi-view classifier", "",
+              table(rows("acc_shared", "stderr_3_shared"), ["planner", "3", "6", "9", "s.e. at 3"])]
+    acc3 = {k: v["3"] for k, v in s["acc"].items()}
+    sh3 = {k: v["3"] for k, v in s["acc_shared"].items()}
+    best = s.get("default_planner")
+    if best and "random" in acc3 and "straight" in acc3:
+        base, base_sh = max(acc3["random"], acc3["straight"]), max(sh3["random"], sh3["straight"])
+        lines = [f"- default planner `{best}`: {100 * (acc3[best] - base):+.1f} points over the best "
+                 f"of random and straight with its own classifier, {100 * (sh3[best] - base_sh):+.1f} "
+                 "with the shared one"]
+        if "fixed" in acc3:
+            lines.append(f"- `{best}` over `fixed`: {100 * (acc3[best] - acc3['fixed']):+.1f} points "
+                         f"(own classifier), {100 * (sh3[best] - sh3['fixed']):+.1f} (shared)")
+        if "learned" in acc3:
+            lines.append(f"- `learned` (end to end): {100 * (acc3['learned'] - base):+.1f} points "
+                         "over the best of random and straight")
+        parts += ["", "At 3 views:", "", *lines]
+    t = s.get("training_time", {})
+    if t:
+        ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"
+        learned = "never" if t.get("learned_s") is None else f"{t['learned_s']:.0f} s"
+        parts += ["", f"Training time (joint stage): REINFORCE's best 3-view accuracy "
+                  f"{100 * t['reinforce_best']:.1f} %; learned reaches it in {learned}, "
+                  f"REINFORCE in {t.get('reinforce_s') or 0:.0f} s (ratio {ratio}; the paper 0.30).",
+                  "", "![twins training time](results/twins/training_time.png)",
+                  "![twins accuracy](results/twins/accuracy_vs_views.png)"]
+    return parts

@@ -2,7 +2,9 @@
 
 Stage "pretrain": depth images of training shapes from random views, cross-entropy.
 Stage "joint": episodes of `steps` views from the 50 initial views, cross-entropy at every step,
-backpropagation through time; FC_loc learns only through the depth layer's view gradient.
+backpropagation through time; FC_loc learns only through the depth layer's view gradient
+(policy "learned"), or by REINFORCE ("reinforce"); with policy "imitation" FC_view learns to pick
+the candidate view the oracle picks (DAgger: the episode follows the oracle or FC_view at random).
 Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU).
 """
 from __future__ import annotations
@@ -30,6 +32,7 @@ from .model import ModelConfig, RecurrentAttention
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
+POLICIES = ("learned", "reinforce", "imitation")
 
 
 @dataclass
@@ -38,7 +41,8 @@ class TrainConfig:
     root: str | None = None
     out: str = "runs/procedural"
     stage: str = "all"                # pretrain | joint | all
-    policy: str = "learned"           # learned (end to end) | reinforce (issue: baselines)
+    policy: str = "learned"           # learned (end to end) | reinforce | imitation (of the oracle)
+    imitation_mix: float = 0.5        # imitation: chance that a step follows the oracle, not FC_view
     pretrain_epochs: int = 6
     joint_epochs: int = 6
     batch_size: int = 32
@@ -64,8 +68,10 @@ class TrainConfig:
             raise ValueError(f"stage must be pretrain, joint or all, got {self.stage!r}")
         if self.view_gradient not in ("paper", "surface"):
             raise ValueError(f"view gradient must be paper or surface, got {self.view_gradient!r}")
-        if self.policy not in ("learned", "reinforce"):
-            raise ValueError(f"policy must be learned or reinforce, got {self.policy!r}")
+        if self.policy not in POLICIES:
+            raise ValueError(f"policy must be one of {POLICIES}, got {self.policy!r}")
+        if not 0 <= self.imitation_mix <= 1:
+            raise ValueError(f"imitation_mix must lie in [0, 1], got {self.imitation_mix}")
         if self.batch_size < 1 or self.steps < 1:
             raise ValueError("batch size and steps must be at least 1")
         if self.step_weighting not in STEP_WEIGHTINGS:
@@ -128,8 +134,8 @@ class PretrainLoss(nn.Module):
         super().__init__()
         self.model = model
 
-    def forward(self, depth, labels):
-        logits = self.model.classify_image(depth)
+    def forward(self, depth, labels, views=None):
+        logits = self.model.classify_image(depth, views)
         return nn.functional.cross_entropy(logits, labels), (logits.argmax(1) == labels).float().mean()
 
 
@@ -177,6 +183,65 @@ class ReinforceLoss(nn.Module):
         return ce + policy, correct.mean()
 
 
+class ImitationLoss(nn.Module):
+    """FC_view imitates the oracle, DAgger-style; the classifier learns on the states visited.
+
+    At every step the oracle tries each candidate view of each object with the current model
+    and picks the one after which the true class is most probable (privileged, training only).
+    FC_view is trained to pick it (cross-entropy over the candidates not yet visited). The next
+    view is the oracle's with probability `mix`, else FC_view's, so FC_view also learns from
+    states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
+    """
+
+    def __init__(self, model, steps, weighting="uniform", mix=0.5):
+        super().__init__()
+        from .policies import visited_mask
+        self.model, self.steps, self.mix, self.visited_mask = model, steps, mix, visited_mask
+        self.weights = step_weights(steps, weighting).tolist()
+        self.candidates = geometry.fibonacci_views(model.config.candidates)
+
+    def oracle_targets(self, cand_features, hidden, labels, visited):
+        """(B,) index of the best unvisited candidate for each object, by true-class loss."""
+        model, k = self.model, len(self.candidates)
+        views = torch.as_tensor(self.candidates, dtype=torch.float32, device=hidden.device)
+        with torch.no_grad():
+            b = len(hidden)
+            inputs = model.cell_input(cand_features.reshape(b * k, -1), views.repeat(b, 1))
+            h = model.cell(inputs, hidden.detach().repeat_interleave(k, 0))
+            loss = nn.functional.cross_entropy(model.classify(h), labels.repeat_interleave(k),
+                                               reduction="none").reshape(b, k)
+            loss[torch.as_tensor(visited, device=loss.device)] = float("inf")
+            return loss.argmin(1)
+
+    def forward(self, cameras, views, labels):
+        from .depth_layer import render_views
+        model, k = self.model, len(self.candidates)
+        with torch.no_grad():
+            depth = np.stack([c.render(self.candidates) for c in cameras])          # (B, K, H, W)
+            feats = model.features(torch.from_numpy(depth).flatten(0, 1).to(labels.device))
+        ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
+                     planner=self)
+        ep.reset(torch.as_tensor(views, dtype=torch.float32))
+        self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
+        out = []
+        for _ in range(self.steps):
+            depth = render_views(ep.view.detach().double(), cameras, "paper", "mean")
+            out.append(ep.step(depth.float()))
+        loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
+        return loss, (out[-1].logits.argmax(1) == labels).float().mean()
+
+    def next_view(self, episode, step):
+        """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
+        visited = self.visited_mask(episode, self.candidates)
+        target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
+        scores = self.model.score_views(episode.hidden)
+        masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
+        self.head_losses.append(nn.functional.cross_entropy(masked, target))
+        follow = torch.rand(len(target), device=target.device) < self.mix
+        choice = torch.where(follow, target, masked.detach().argmax(1))
+        return self.candidates[choice.cpu().numpy()]
+
+
 def distributed(device="cpu"):
     """(rank, world) and the process group, when started by torchrun: nccl on GPU, gloo on CPU."""
     world = int(os.environ.get("WORLD_SIZE", "1"))
@@ -203,8 +268,9 @@ def batches(n, batch, seed, stage, epoch, rank, world):
     return [mine[b:b + batch] for b in range(0, len(mine) - batch + 1, batch)] or [mine]
 
 
-def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0):
-    """Learned-policy accuracy after 1, 3, 10 views from fixed initial views, first n shapes."""
+def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None):
+    """Accuracy after 1, 3, 10 views from fixed initial views on a seeded sample of n shapes,
+    with the model's own view head (or `planner`)."""
     if n <= 0:
         return {}
     rng = np.random.default_rng(seed)
@@ -213,10 +279,19 @@ def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0):
     was = model.training
     model.eval()
     with torch.no_grad():
-        out = run(Episode(model, EpisodeConfig(max_views=max(steps))), shapes.cameras(idx), views)
+        out = run(Episode(model, EpisodeConfig(max_views=max(steps)), planner), shapes.cameras(idx),
+                  views)
     model.train(was)
     y = torch.as_tensor(shapes.labels[idx], device=out[0].probs.device)
     return {f"acc_{k}": round((out[k - 1].probs.argmax(1) == y).float().mean().item(), 4) for k in steps}
+
+
+def own_planner(model, policy):
+    """The planner a run trains: FC_view for imitation, else the model's FC_loc (None)."""
+    if policy == "imitation" and model.config.candidates:
+        from .policies import ImitationPlanner
+        return ImitationPlanner(model)
+    return None
 
 
 def write_metrics(path, rows):
@@ -251,6 +326,9 @@ def train(cfg: TrainConfig, progress=True):
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
     mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
+    if cfg.policy == "imitation" and not mcfg.candidates:
+        raise ValueError("policy imitation needs a view-scoring head: set model.candidates "
+                         "(--candidates 50)")
     if cfg.initial_step is not None:  # refuse it now, not after pre-training
         initial_step_bias(cfg.initial_step, mcfg.max_step)
     model = RecurrentAttention(mcfg).to(device)
@@ -299,6 +377,8 @@ def train(cfg: TrainConfig, progress=True):
             wrapper = PretrainLoss(model)
         elif cfg.policy == "reinforce":
             wrapper = ReinforceLoss(model, cfg.steps, cfg.step_weighting)
+        elif cfg.policy == "imitation":
+            wrapper = ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix)
         else:
             wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
                                 cfg.step_weighting)
@@ -319,8 +399,10 @@ def train(cfg: TrainConfig, progress=True):
                 cams = shapes.cameras(idx)
                 if stage == "pretrain":
                     k = cfg.views_per_shape
-                    depth = np.concatenate([c.render(geometry.random_views(rng, k)) for c in cams])
-                    loss, acc = net(torch.from_numpy(depth).to(device), y.repeat_interleave(k))
+                    views = [geometry.random_views(rng, k) for _ in cams]
+                    depth = np.concatenate([c.render(v) for c, v in zip(cams, views)])
+                    views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=device)
+                    loss, acc = net(torch.from_numpy(depth).to(device), y.repeat_interleave(k), views)
                 else:
                     views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
                     loss, acc = net(cams, views, y)
@@ -339,7 +421,8 @@ def train(cfg: TrainConfig, progress=True):
                        "wall_s": round(time.perf_counter() - start, 2),
                        "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
                        "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
-                       **evaluate_accuracy(model, test, cfg.eval_shapes, seed=cfg.seed)}
+                       **evaluate_accuracy(model, test, cfg.eval_shapes, seed=cfg.seed,
+                                           planner=own_planner(model, cfg.policy))}
                 rows.append(row)
                 write_metrics(metrics_path, rows)
                 print(" ".join(f"{k}={v}" for k, v in row.items()), file=sys.stderr)

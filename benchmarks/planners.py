@@ -1,42 +1,99 @@
-"""Planners compared on the procedural test split: learned (the shipped model), random, straight,
-reinforce (a REINFORCE-trained model from the same pre-trained classifier) and oracle; and the
-wall-clock for `learned` to reach the best accuracy `reinforce` reaches, over reinforce's time.
-Writes the report under docs/results/ and docs/RESULTS.md. Last line is JSON."""
+"""Planners compared on the same episodes of a dataset's test split: learned (end to end), random,
+straight, reinforce, fixed (the best fixed path), imitation (FC_view imitating the oracle) and the
+privileged oracle; each with its own recurrent classifier and with one shared multi-view
+classifier, the standard error of every 3-view figure, and the wall-clock for `learned` to reach
+the best accuracy `reinforce` reaches, over reinforce's time.
+Writes the report under docs/results/ (docs/results/<dataset>/ for other datasets than
+procedural) and re-renders docs/RESULTS.md. Last line is JSON."""
 import argparse
 import json
 from pathlib import Path
 
 from common import emit
 
+from active_recognition import checkpoint
 from active_recognition.checkpoint import SHIPPED
+from active_recognition.datasets import NAMES
 from active_recognition.evaluate import EvalConfig, evaluate, summary, write_json
 from active_recognition.report import training_time, write_results_page
 from active_recognition.train import read_metrics
 
 ROOT = Path(__file__).resolve().parents[1]
+MODELS = SHIPPED.parent
+# the planners each dataset's shipped models serve, and the model file of each
+PLANNERS = {"procedural": ("learned", "random", "straight", "reinforce", "oracle"),
+            "twins": ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")}
+CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt"},
+               "twins": {"learned": "twins_learned.pt", "reinforce": "twins_reinforce.pt",
+                         "imitation": "twins.pt"}}
+# the planner the recognizer and the demo use with each shipped model (its best non-privileged)
+DEFAULT_CHECKPOINT = {"procedural": "procedural.pt", "twins": "twins.pt"}
+
+
+def ship(path, s):
+    """Record in a shipped model the planner 'auto' stands for, and the fixed path."""
+    ckpt = checkpoint.read(path)
+    ckpt["default_planner"] = s["default_planner"]
+    if "fixed_path" in s:
+        ckpt["fixed_path"] = s["fixed_path"]
+    ckpt.pop("format")
+    checkpoint.save(path, ckpt)
+    print(f"{path}: default planner {s['default_planner']}")
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--checkpoint", default=str(SHIPPED))
-    ap.add_argument("--reinforce-checkpoint", default=str(SHIPPED.with_name("procedural_reinforce.pt")))
-    ap.add_argument("--learned-metrics", default=str(ROOT / "docs/results/learned_metrics.csv"))
-    ap.add_argument("--reinforce-metrics", default=str(ROOT / "docs/results/reinforce_metrics.csv"))
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--dataset", default="procedural", choices=sorted(PLANNERS))
+    ap.add_argument("--checkpoint", default=None,
+                    help="the model that scores random, straight, fixed and oracle views "
+                         "(default: the dataset's shipped model)")
+    ap.add_argument("--planner-checkpoint", action="append", default=[], metavar="PLANNER=FILE",
+                    help="a planner's own model (default: the shipped ones)")
+    ap.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
+    ap.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
     ap.add_argument("--objects", type=int, default=0, help="0: the whole test split")
-    ap.add_argument("--out", default=str(ROOT / "docs/results"))
+    ap.add_argument("--starts", type=int, default=3, help="seeded initial views per object (>= 3)")
+    ap.add_argument("--out", default=None, help="report folder (default docs/results[/DATASET])")
+    ap.add_argument("--ship", action="store_true",
+                    help="write the measured best planner (and the fixed path) into the "
+                         "dataset's shipped model, for the recognizer's planner 'auto'")
     args = ap.parse_args()
-    cfg = EvalConfig(checkpoint=args.checkpoint, reinforce_checkpoint=args.reinforce_checkpoint,
-                     planners=("learned", "random", "straight", "reinforce", "oracle"),
-                     objects=args.objects, out=args.out)
+    if args.dataset not in NAMES:
+        ap.error(f"unknown dataset {args.dataset}")
+    results_dir = ROOT / "docs/results"
+    out = Path(args.out) if args.out else (
+        results_dir if args.dataset == "procedural" else results_dir / args.dataset)
+    own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
+    for item in args.planner_checkpoint:
+        name, sep, path = item.partition("=")
+        if not sep:
+            ap.error(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
+        own[name] = path
+    metrics = {k: getattr(args, f"{k}_metrics") or str(out / f"{k}_metrics.csv")
+               for k in ("learned", "reinforce")}
+    for path in metrics.values():
+        if not Path(path).is_file():
+            ap.error(f"{path}: no such metrics file (train the run first, or pass --*-metrics)")
+    cfg = EvalConfig(checkpoint=args.checkpoint or str(MODELS / DEFAULT_CHECKPOINT[args.dataset]),
+                     planner_checkpoints=own, planners=PLANNERS[args.dataset],
+                     dataset=args.dataset, objects=args.objects, starts=args.starts, out=str(out))
     results = evaluate(cfg)
     s = summary(results)
-    t = training_time(read_metrics(args.learned_metrics), read_metrics(args.reinforce_metrics),
-                      Path(args.out) / "training_time.png")
+    t = training_time(read_metrics(metrics["learned"]), read_metrics(metrics["reinforce"]),
+                      out / "training_time.png")
     s["training_time"] = t
-    write_json(Path(args.out) / "summary.json", s)
-    write_results_page(ROOT / "docs/RESULTS.md", s, cfg)
-    print(json.dumps(s["acc_shared"]) if "acc_shared" in s else "")
-    emit({"acc": s["acc"], "learned_vs_reinforce_time_ratio": t["ratio"]})
+    fair = {k: v for k, v in s["acc"].items() if k != "oracle"}
+    s["default_planner"] = max(fair, key=lambda k: fair[k]["3"])
+    write_json(out / "summary.json", s)
+    if args.ship:
+        ship(MODELS / DEFAULT_CHECKPOINT[args.dataset], s)
+    write_results_page(ROOT / "docs/RESULTS.md", ROOT / "docs/results")
+    for name in s["acc"]:
+        print(f"{name:>10}: 3 views {100 * s['acc'][name]['3']:.1f} +- {100 * s['stderr_3'][name]:.1f}"
+              f", shared classifier {100 * s['acc_shared'][name]['3']:.1f} +- "
+              f"{100 * s['stderr_3_shared'][name]:.1f}")
+    emit({"acc": s["acc"], "shared_acc": s["acc_shared"], "stderr_3": s["stderr_3"],
+          "default_planner": s["default_planner"], "learned_vs_reinforce_time_ratio": t["ratio"]})
 
 
 if __name__ == "__main__":

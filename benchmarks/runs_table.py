@@ -8,12 +8,11 @@ Two studies feed docs/RESULTS.md:
 Writes docs/results/<study>.json and re-renders docs/RESULTS.md. Last line is JSON.
 """
 import argparse
-import json
 from pathlib import Path
 
 from common import emit
 
-from active_recognition.evaluate import EvalConfig, compare_runs, write_json
+from active_recognition.evaluate import compare_runs, write_json
 from active_recognition.report import write_results_page
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -41,9 +40,8 @@ def main():
     k = VIEWS[args.study]
     data = {"views": k, "starts": args.starts, "acc": acc}
     write_json(Path(args.out) / f"{args.study}.json", data)
-    summary = Path(args.out) / "summary.json"
-    if summary.is_file():
-        write_results_page(ROOT / "docs/RESULTS.md", json.loads(summary.read_text()), EvalConfig())
+    if (Path(args.out) / "summary.json").is_file():
+        write_results_page(ROOT / "docs/RESULTS.md", args.out)
     emit({"views": k, "acc": {r: {p: v[k - 1] for p, v in a.items()} for r, a in acc.items()}})
 
 

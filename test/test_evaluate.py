@@ -100,9 +100,27 @@ def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):
     res, cfg, _ = results
     s = summary(res)
     s["training_time"] = {"reinforce_best": 0.9, "learned_s": 10.0, "reinforce_s": 40.0, "ratio": 0.25}
-    write_results_page(tmp_path / "RESULTS.md", s, cfg)
+    (tmp_path / "results" / "twins").mkdir(parents=True)
+    (tmp_path / "results" / "summary.json").write_text(json.dumps(s))
+    write_results_page(tmp_path / "RESULTS.md", tmp_path / "results")
     text = (tmp_path / "RESULTS.md").read_text()
-    assert "ModelNet10 | 87.7 | 89.8 | 91.2" in text and "| oracle |" in text and "ratio 0.25" in text
+    assert "ModelNet10 | 87.7 | 89.8 | 91.2" in text and "ratio 0.25" in text
+    oracle = s["acc"]["oracle"]
+    assert f"| oracle | {100 * oracle['3']:.1f} |" in text
+    assert "twins" not in text  # no twins summary yet
+    twins = {"acc": {"random": {"3": 0.6}, "straight": {"3": 0.62}, "fixed": {"3": 0.7},
+                     "imitation": {"3": 0.9}},
+             "acc_shared": {"random": {"3": 0.5}, "straight": {"3": 0.55}, "fixed": {"3": 0.6},
+                            "imitation": {"3": 0.8}},
+             "stderr_3": {k: 0.01 for k in ("random", "straight", "fixed", "imitation")},
+             "stderr_3_shared": {k: 0.02 for k in ("random", "straight", "fixed", "imitation")},
+             "default_planner": "imitation"}
+    (tmp_path / "results" / "twins" / "summary.json").write_text(json.dumps(twins))
+    write_results_page(tmp_path / "RESULTS.md", tmp_path / "results")
+    text = (tmp_path / "RESULTS.md").read_text()
+    assert "| imitation | 90.0 | 1.0 |" in text and "| imitation | 80.0 | 2.0 |" in text
+    assert "`imitation`: +28.0 points over the best of random and straight" in text
+    assert "+25.0 with the shared one" in text and "`imitation` over `fixed`: +20.0" in text
 
 
 def test_shared_classifier_prefixes_equal_separate_calls():

@@ -1,4 +1,5 @@
-"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, and the embedded procedural benchmark."""
+"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, and the embedded benchmarks
+(procedural, twins)."""
 from __future__ import annotations
 
 from .base import ShapeDataset, default_cache_dir
@@ -6,14 +7,16 @@ from .folder import folder
 from .modelnet import modelnet
 from .procedural import procedural
 from .shapenet import shapenet
+from .twins import twins
 
-NAMES = ("procedural", "modelnet", "shapenet", "folder")
+NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
+GENERATED = {"procedural": procedural, "twins": twins}
 
 
 def open_dataset(name, root=None, split="train", cache_dir=None, validate=True, **kwargs):
     """Open a split of a dataset by name; file datasets are validated (bad files skipped)."""
-    if name == "procedural":
-        return procedural(split, cache_dir=cache_dir, **kwargs)
+    if name in GENERATED:
+        return GENERATED[name](split, cache_dir=cache_dir, **kwargs)
     loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
     if name not in loaders:
         raise ValueError(f"dataset must be one of {NAMES}, got {name!r}")

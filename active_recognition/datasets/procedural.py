@@ -223,11 +223,11 @@ def make_shape(label: int, seed: int):
     return normalise(mesh.vertices).astype(np.float32), np.asarray(mesh.faces, dtype=np.int32)
 
 
-def shape_seeds(seed: int, per_class: int, split: str):
+def shape_seeds(seed: int, per_class: int, split: str, classes=len(CLASSES)):
     """Deterministic (label, seed) list of a split: train and test never share a seed."""
     offset = {"train": 0, "test": 1}[split]
     ss = np.random.SeedSequence([seed, offset])
-    seeds = ss.generate_state(per_class * len(CLASSES), dtype=np.uint32)
+    seeds = ss.generate_state(per_class * classes, dtype=np.uint32)
     return [(i // per_class, int(s)) for i, s in enumerate(seeds)]
 
 
@@ -235,28 +235,29 @@ VERSION = 1  # bump when a generator changes, so caches are rebuilt
 PER_CLASS = {"train": 200, "test": 50}
 
 
-def procedural(split="train", cache_dir=None, seed=0, per_class=None):
-    """The procedural benchmark as a ShapeDataset; all meshes of a split cached in one .npz."""
+def generated(name, classes, make, version, split="train", cache_dir=None, seed=0, per_class=None):
+    """A generated benchmark as a ShapeDataset: `make(label, seed)` builds each shape; all meshes
+    of a split are cached in one .npz under cache_dir/name."""
     from .base import ShapeDataset, check_split, save_npz_atomic
 
     check_split(split)
     per_class = PER_CLASS[split] if per_class is None else int(per_class)
     if per_class < 1:
-        raise ValueError(f"procedural per_class must be at least 1, got {per_class}")
-    specs = shape_seeds(seed, per_class, split)
-    items = [(f"{CLASSES[label]}/{s}", label) for label, s in specs]
-    ds = ShapeDataset("procedural", list(CLASSES), split, items, cache_dir=cache_dir)
+        raise ValueError(f"{name} per_class must be at least 1, got {per_class}")
+    specs = shape_seeds(seed, per_class, split, len(classes))
+    items = [(f"{classes[label]}/{s}", label) for label, s in specs]
+    ds = ShapeDataset(name, list(classes), split, items, cache_dir=cache_dir)
     path = None
     if cache_dir is not None:
         from pathlib import Path
-        path = Path(cache_dir) / "procedural" / f"v{VERSION}-s{seed}-{split}-{per_class}.npz"
+        path = Path(cache_dir) / name / f"v{version}-s{seed}-{split}-{per_class}.npz"
     if path is not None and path.exists():
         with np.load(path) as z:
             v, f, vo, fo = (z[k] for k in ("vertices", "faces", "vertex_offsets", "face_offsets"))
         for i in range(len(items)):
             ds._meshes[i] = (v[vo[i]:vo[i + 1]], f[fo[i]:fo[i + 1]])
         return ds
-    meshes = [make_shape(label, s) for label, s in specs]
+    meshes = [make(label, s) for label, s in specs]
     ds._meshes = dict(enumerate(meshes))
     if path is not None:
         save_npz_atomic(path, vertices=np.concatenate([v for v, _ in meshes]),
@@ -264,3 +265,8 @@ def procedural(split="train", cache_dir=None, seed=0, per_class=None):
                         vertex_offsets=np.cumsum([0] + [len(v) for v, _ in meshes]),
                         face_offsets=np.cumsum([0] + [len(f) for _, f in meshes]))
     return ds
+
+
+def procedural(split="train", cache_dir=None, seed=0, per_class=None):
+    """The procedural benchmark as a ShapeDataset (see `generated`)."""
+    return generated("procedural", CLASSES, make_shape, VERSION, split, cache_dir, seed, per_class)

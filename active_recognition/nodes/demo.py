@@ -12,6 +12,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
+from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
@@ -86,15 +87,20 @@ def recognize(executor, client, timeout=10.0):
     return client.result if spin_until(executor, client.arrived.is_set, timeout) else None
 
 
-def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print):
-    """Recognise `objects` procedural test objects in turn; returns the summary dict."""
-    test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
+def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="auto",
+             dataset="procedural"):
+    """Recognise `objects` test objects of an embedded dataset in turn (with that dataset's
+    shipped model unless `checkpoint` names one); returns the summary dict."""
+    test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
+    if not 1 <= objects <= len(test):
+        raise ValueError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")
     order = np.random.default_rng(seed).permutation(len(test))[:objects]
     with ros_session(args) as (ctx, executor):
         camera = SimulatedCameraNode(context=ctx, parameter_overrides=[
-            Parameter("index", value=int(order[0]))])
+            Parameter("dataset", value=dataset), Parameter("index", value=int(order[0]))])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("checkpoint", value=checkpoint), Parameter("seed", value=seed)])
+            Parameter("checkpoint", value=checkpoint or str(shipped(dataset))),
+            Parameter("seed", value=seed), Parameter("planner", value=planner)])
         client = DemoClient(context=ctx)
         for node in (camera, recognizer, client):
             executor.add_node(node)
@@ -120,7 +126,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print):
                    "mean_views": float(np.mean([r[1] for r in rows])),
                    "ms_per_episode_p50": float(np.median([r[2] for r in rows])),
                    "rejected_images": recognizer.rejected}
-        out(f"accuracy {summary['accuracy']:.2f} over {summary['objects']} objects, "
+        out(f"planner {recognizer.core.planner}: "
+            f"accuracy {summary['accuracy']:.2f} over {summary['objects']} objects, "
             f"mean views {summary['mean_views']:.1f}, "
             f"median {summary['ms_per_episode_p50']:.0f} ms per episode")
         return summary

@@ -19,6 +19,9 @@ from active_recognition.recognizer import ActiveRecognizer
 
 PARAMS = {  # name: (default, type, description)
     "checkpoint": ("", ParameterType.PARAMETER_STRING, "model file; empty = the shipped model"),
+    "planner": ("auto", ParameterType.PARAMETER_STRING,
+                "next-view planner: auto (the checkpoint's best), learned, random, straight, "
+                "reinforce, fixed or imitation"),
     "entropy_threshold": (0.1, ParameterType.PARAMETER_DOUBLE, "stop below this entropy (nats)"),
     "max_views": (10, ParameterType.PARAMETER_INTEGER, "stop after this many views"),
     "seed": (0, ParameterType.PARAMETER_INTEGER, "seed of the random initial views"),
@@ -34,7 +37,8 @@ class Recognizer(Node):
         p = declare_parameters(self, PARAMS)
         self.frame_id, self.fresh_only = p["frame_id"], p["require_fresh_images"]
         self.core = ActiveRecognizer(p["checkpoint"] or None,
-                                     EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"])
+                                     EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"],
+                                     p["planner"])
         latched = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
         self.pub_classes = self.create_publisher(String, "recognition/classes", latched)
         self.pub_probs = self.create_publisher(Float32MultiArray, "recognition/probabilities", 10)
@@ -48,7 +52,8 @@ class Recognizer(Node):
         self.received = self.processed = self.idle = self.stale = self.rejected = 0
         self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
         self.request_stamp = None
-        self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes")
+        self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, "
+                               f"planner {self.core.planner}")
 
     def request_view(self):
         msg = ma.view_to_pose(*self.core.view, self.core.radius, self.frame_id,

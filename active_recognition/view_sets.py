@@ -1,0 +1,74 @@
+"""Sets of views judged by the shared multi-view classifier: the headroom a planner has.
+
+The shared classifier max-pools per-view features, so a set of views is scored from the
+features of its members. With every object's features at the 50 candidate views computed once,
+any subset is a max and a linear layer away:
+- `best_fixed_views`: the views, the same for every object and fixed in the object frame, that
+  score best on a split after a random first view (the best a non-adaptive path can do);
+- `best_subset_accuracy`: for each object the best k candidates chosen with the true label (a
+  privileged ceiling).
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import torch
+
+from . import geometry
+
+
+def candidate_features(net, shapes, idx, candidates, chunk=16):
+    """Shared-classifier features of objects `idx` at every candidate view: (N, K, F)."""
+    out = []
+    with torch.no_grad():
+        for b in range(0, len(idx), chunk):
+            depth = np.stack([c.render(candidates) for c in shapes.cameras(idx[b:b + chunk])])
+            out.append(net.view_features(torch.from_numpy(depth)))
+    return torch.cat(out)
+
+
+def subset_logits(net, features, subsets):
+    """features (N, K, F), subsets (S, k) candidate indices -> logits (N, S, C)."""
+    pooled = features[:, torch.as_tensor(subsets)].amax(2)                 # (N, S, F)
+    return net.classify(pooled)
+
+
+def best_fixed_views(net, features, labels, extra=2, chunk=64):
+    """Indices of the `extra` candidates that, added to any first candidate, score best on
+    objects with `features` (N, K, F) and `labels`: (indices, mean accuracy over first views)."""
+    k = features.shape[1]
+    pairs = np.array(list(itertools.combinations(range(k), extra)))        # (P, extra)
+    y = torch.as_tensor(labels)
+    correct = torch.zeros(len(pairs))
+    with torch.no_grad():
+        for first in range(k):
+            sets = np.concatenate([np.full((len(pairs), 1), first), pairs], 1)
+            for b in range(0, len(features), chunk):
+                logits = subset_logits(net, features[b:b + chunk], sets)  # (n, P, C)
+                correct += (logits.argmax(-1) == y[b:b + chunk, None]).float().sum(0)
+    best = int(correct.argmax())
+    return pairs[best], float(correct[best] / (k * len(features)))
+
+
+def best_subset_accuracy(net, features, labels, size=3):
+    """Fraction of objects for which some `size` candidates, chosen with the true label, are
+    classified right (the subset with the highest true-class probability)."""
+    sets = np.array(list(itertools.combinations(range(features.shape[1]), size)))
+    hits = []
+    with torch.no_grad():
+        for i, y in enumerate(labels):
+            logp = subset_logits(net, features[i:i + 1], sets)[0].log_softmax(-1)  # (S, C)
+            hits.append(int(logp[int(logp[:, y].argmax())].argmax()) == y)
+    return float(np.mean(hits))
+
+
+def fixed_path(net, train_shapes, candidates=50, objects=400, seed=0):
+    """The best fixed path on (a seeded sample of) the training split: the two candidate views
+    (theta, phi), (2, 2), that the shared classifier scores best after a random first view."""
+    views = geometry.fibonacci_views(candidates)
+    rng = np.random.default_rng(seed)
+    idx = np.sort(rng.permutation(len(train_shapes))[:objects])
+    feats = candidate_features(net, train_shapes, idx, views)
+    pair, acc = best_fixed_views(net, feats, train_shapes.labels[idx])
+    return views[pair], acc

@@ -1,0 +1,177 @@
+"""Looking must pay: the twins benchmark, view-set scoring, the fixed and imitation planners, the
+view input and the imitation targets, each against an independent computation."""
+import itertools
+import math
+
+import numpy as np
+import pytest
+import torch
+
+from active_recognition import geometry
+from active_recognition.datasets import open_dataset
+from active_recognition.datasets.twins import CLASSES, PAIRS, make_shape
+from active_recognition.depth_layer import DepthCamera
+from active_recognition.episode import Episode, EpisodeConfig
+from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner
+from active_recognition.shared_classifier import MultiViewClassifier
+from active_recognition.train import ImitationLoss
+from active_recognition.view_sets import best_fixed_views, best_subset_accuracy, subset_logits
+
+
+def face_view(axis, sign, tilt=0.0):
+    """The view looking at face (axis, sign), tilted by `tilt` radians towards another axis."""
+    normal = np.zeros(3)
+    normal[axis] = sign
+    other = np.zeros(3)
+    other[(axis + 1) % 3] = 1.0
+    _, theta, phi = geometry.view_from_position(math.cos(tilt) * normal + math.sin(tilt) * other)
+    return theta, phi
+
+
+@pytest.mark.parametrize("pair", range(len(PAIRS)))
+def test_twins_differ_only_where_their_niche_faces(pair):
+    """Same seed, same proportions: the two classes of a pair render the same from every view
+    more than 75 degrees from the telling face, and differently when looking into the niche."""
+    _, axis, sign = PAIRS[pair]
+    for seed in (3, 11):
+        a, b = (DepthCamera(*make_shape(2 * pair + k, seed)) for k in (0, 1))
+        far = np.array([v for v in geometry.fibonacci_views(60)
+                        if geometry.camera_position(*v)[axis] * sign < math.cos(math.radians(75))])
+        np.testing.assert_allclose(a.render(far), b.render(far), atol=0.01)  # of 255
+        straight = np.array([face_view(axis, sign)])
+        differ = (a.render(straight) != b.render(straight)).sum()
+        assert differ >= 20, f"pair {pair}: only {differ} pixels tell the twins apart"
+
+
+def test_twins_dataset_is_generated_deterministically_with_every_class():
+    ds = open_dataset("twins", split="test", per_class=2)
+    again = open_dataset("twins", split="test", per_class=2)
+    assert ds.classes == list(CLASSES) and len(CLASSES) == 12
+    np.testing.assert_array_equal(ds.class_counts(), np.full(12, 2))
+    for i in range(len(ds)):
+        v, f = ds.mesh(i)
+        np.testing.assert_array_equal(v, again.mesh(i)[0])
+        assert np.abs(v).max() <= 0.5 + 1e-6 and np.isclose(np.ptp(v, 0).max(), 1.0, atol=1e-5)
+    train = open_dataset("twins", split="train", per_class=2)
+    assert not any(np.array_equal(train.mesh(i)[0], ds.mesh(i)[0]) for i in range(len(ds)))
+
+
+@pytest.fixture(scope="module")
+def toy():
+    """A shared classifier with random weights and features of 5 objects at 7 candidates."""
+    torch.manual_seed(0)
+    net = MultiViewClassifier(4, feature_size=6)
+    feats = torch.rand(5, 7, 6)
+    labels = np.array([0, 1, 2, 3, 1])
+    return net, feats, labels
+
+
+def test_best_fixed_views_match_brute_force(toy):
+    net, feats, labels = toy
+    pair, acc = best_fixed_views(net, feats, labels, chunk=2)
+    scores = {}
+    with torch.no_grad():
+        for p in itertools.combinations(range(7), 2):
+            hits = [int(net.classify(feats[i, [f, *p]].amax(0)).argmax()) == labels[i]
+                    for i in range(5) for f in range(7)]
+            scores[p] = np.mean(hits)
+    assert acc == pytest.approx(max(scores.values()))
+    assert scores[tuple(pair)] == pytest.approx(max(scores.values()))
+
+
+def test_best_subset_accuracy_matches_brute_force(toy):
+    net, feats, labels = toy
+    expected = []
+    with torch.no_grad():
+        for i, y in enumerate(labels):
+            best = max(itertools.combinations(range(7), 3),
+                       key=lambda s: net.classify(feats[i, list(s)].amax(0)).log_softmax(-1)[y])
+            expected.append(int(net.classify(feats[i, list(best)].amax(0)).argmax()) == y)
+    assert best_subset_accuracy(net, feats, labels, 3) == pytest.approx(np.mean(expected))
+    logits = subset_logits(net, feats, np.array([[0, 1, 2]]))
+    torch.testing.assert_close(logits[:, 0], net.classify(feats[:, :3].amax(1)))
+
+
+def small_model(view_input=True, candidates=10):
+    torch.manual_seed(1)
+    return RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8,
+                                          view_input=view_input, candidates=candidates)).eval()
+
+
+def test_view_input_makes_the_state_depend_on_where_the_image_was_taken():
+    depth = torch.rand(2, 64, 64) * 255
+    hidden = torch.zeros(2, 12)
+    plain = small_model(view_input=False)
+    a = plain(depth, hidden, torch.tensor([[0.3, 0.1], [1.0, 2.0]]))[2]
+    b = plain(depth, hidden, torch.tensor([[2.0, -1.0], [0.1, 0.4]]))[2]
+    torch.testing.assert_close(a, b)  # without the option the view is ignored
+    model = small_model()
+    a = model(depth, hidden, torch.tensor([[0.3, 0.1], [1.0, 2.0]]))[2]
+    b = model(depth, hidden, torch.tensor([[2.0, -1.0], [0.1, 0.4]]))[2]
+    assert not torch.allclose(a, b)
+    with pytest.raises(ValueError, match="view_input"):
+        model(depth, hidden)
+    # the input is the camera's unit position, the same for equivalent (wrapped) views
+    t, p = geometry.wrap_view(torch.tensor([4.0]), torch.tensor([0.5]))
+    wrapped = model(depth[:1], hidden[:1], torch.stack([t, p], -1))[2]
+    direct = model(depth[:1], hidden[:1], torch.tensor([[4.0, 0.5]]))[2]
+    torch.testing.assert_close(wrapped, direct, atol=1e-5, rtol=1e-5)
+
+
+def test_imitation_planner_takes_the_best_unvisited_candidate():
+    model = small_model()
+    planner = ImitationPlanner(model)
+    ep = Episode(model, EpisodeConfig(max_views=10, entropy_threshold=0.0), planner)
+    cands = geometry.fibonacci_views(10)
+    ep.reset(torch.as_tensor(cands[[2, 5]], dtype=torch.float32))
+    seen = [{2}, {5}]
+    torch.manual_seed(3)
+    with torch.no_grad():
+        for _ in range(9):
+            before = ep.hidden.clone()
+            step = ep.step(torch.rand(2, 64, 64) * 255)
+            scores = model.score_views(ep.hidden)
+            for b in range(2):
+                order = [int(k) for k in torch.argsort(scores[b], descending=True)]
+                best = next(k for k in order if k not in seen[b])
+                np.testing.assert_allclose(step.next_view[b].numpy(), cands[best], atol=1e-6)
+                seen[b].add(best)
+            assert not torch.equal(before, ep.hidden)
+    assert all(len(s) == 10 for s in seen)  # ten views, ten different candidates: no revisit
+    with pytest.raises(ValueError, match="view-scoring head"):
+        make_planner("imitation", model=small_model(candidates=0))
+
+
+def test_fixed_planner_follows_its_path_then_looks_at_random():
+    model = small_model(candidates=0)
+    path = [[0.4, 1.0], [2.0, -2.0]]
+    ep = Episode(model, EpisodeConfig(max_views=5, entropy_threshold=0.0), FixedPlanner(path, 0))
+    ep.reset(torch.tensor([[1.0, 0.0], [2.5, 3.0]]))
+    with torch.no_grad():
+        views = [ep.step(torch.rand(2, 64, 64) * 255).next_view.numpy() for _ in range(4)]
+    np.testing.assert_allclose(views[0], [path[0]] * 2, atol=1e-6)
+    np.testing.assert_allclose(views[1], [path[1]] * 2, atol=1e-6)
+    assert not np.allclose(views[2][0], views[2][1])  # then random, per object
+    with pytest.raises(ValueError, match="path"):
+        make_planner("fixed")
+
+
+def test_imitation_targets_are_the_candidates_after_which_the_true_class_is_likeliest():
+    model = small_model(candidates=6)
+    loss = ImitationLoss(model, steps=2)
+    feats = torch.rand(2, 6, 8)
+    hidden = torch.rand(2, 12)
+    labels = torch.tensor([2, 0])
+    visited = np.zeros((2, 6), dtype=bool)
+    visited[0, 1] = visited[1, 4] = True
+    target = loss.oracle_targets(feats, hidden, labels, visited)
+    cands = torch.as_tensor(geometry.fibonacci_views(6), dtype=torch.float32)
+    with torch.no_grad():
+        for b in range(2):  # one candidate at a time, through the model's own step
+            ce = []
+            for k in range(6):
+                x = model.cell_input(feats[b, k:k + 1], cands[k:k + 1])
+                p = model.classify(model.cell(x, hidden[b:b + 1])).log_softmax(-1)[0]
+                ce.append(math.inf if visited[b, k] else -float(p[labels[b]]))
+            assert int(target[b]) == int(np.argmin(ce))
