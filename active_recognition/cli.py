@@ -67,7 +67,13 @@ def cmd_dataset(args):
     print(f"skipped {len(skipped)} file(s)")
     for path, reason in skipped:
         print(f"  {path}: {reason}")
-    if args.contact_sheet:
+    if args.contact_sheet and args.name == "twins":  # pairs: a telling view and one that is not
+        from .datasets.twins import pair_sheet
+        images, labels, titles = pair_sheet(args.seed)
+        depth_grid(images.reshape(-1, *images.shape[2:]), args.contact_sheet, columns=4,
+                   row_labels=labels, titles=titles * len(labels))
+        print(f"wrote {args.contact_sheet}")
+    elif args.contact_sheet:
         ds, rng = splits["test"], np.random.default_rng(args.seed)
         views = geometry_views(args.views_per_object)
         images, labels = [], []
@@ -151,9 +157,12 @@ def add_train(sub):
     p.add_argument("--root", help="dataset root folder")
     p.add_argument("--out", help="run folder for checkpoints and metrics.csv")
     p.add_argument("--stage", choices=("pretrain", "joint", "all"), help="which stage(s) to run")
-    p.add_argument("--policy", choices=("learned", "reinforce", "imitation"),
+    p.add_argument("--policy", choices=("learned", "reinforce", "hybrid", "imitation"),
                    help="how the view head learns: end to end through the depth layer (learned), "
-                        "REINFORCE, or FC_view imitating the oracle (imitation, needs --candidates)")
+                        "REINFORCE, both at once (hybrid), or FC_view imitating the oracle "
+                        "(imitation, needs --candidates)")
+    p.add_argument("--revisit-penalty", dest="revisit_penalty", type=float,
+                   help="learned: weight of the penalty on views within 30 degrees of earlier ones (0)")
     p.add_argument("--imitation-mix", dest="imitation_mix", type=float,
                    help="imitation: chance that a training step follows the oracle (0.5)")
     p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=int, help="stage 1 epochs")

@@ -45,6 +45,7 @@ class Episode:
     config: EpisodeConfig = field(default_factory=EpisodeConfig)
     planner: object = None  # None: the model's own FC_loc; else planner.next_view(episode, step)
     exploration_std: float = 0.0  # > 0: sample increments from N(FC_loc, std^2) (REINFORCE)
+    explore_through: bool = False  # keep the sample's path to FC_loc (the hybrid's view gradient)
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
@@ -82,8 +83,10 @@ class Episode:
         step = Step(logits, probs, h, None, self.done.clone())
         if self.planner is None:
             if self.exploration_std > 0:
-                sample = (delta + self.exploration_std * torch.randn_like(delta)).detach()
-                self.log_probs.append(-((sample - delta) ** 2).sum(-1) / (2 * self.exploration_std ** 2))
+                sample = delta + self.exploration_std * torch.randn_like(delta)
+                self.log_probs.append(-((sample.detach() - delta) ** 2).sum(-1)
+                                      / (2 * self.exploration_std ** 2))
+                sample = sample if self.explore_through else sample.detach()
                 delta = sample
             theta, phi = wrap_view(self.view[:, 0] + delta[:, 0], self.view[:, 1] + delta[:, 1])
             step.next_view = torch.stack([theta, phi], -1)

@@ -2,9 +2,9 @@
 
 Stage "pretrain": depth images of training shapes from random views, cross-entropy.
 Stage "joint": episodes of `steps` views from the 50 initial views, cross-entropy at every step,
-backpropagation through time; FC_loc learns only through the depth layer's view gradient
-(policy "learned"), or by REINFORCE ("reinforce"); with policy "imitation" FC_view learns to pick
-the candidate view the oracle picks (DAgger: the episode follows the oracle or FC_view at random).
+backpropagation through time; FC_loc learns through the depth layer's view gradient (policy
+"learned"), by REINFORCE ("reinforce") or both ("hybrid"); with policy "imitation" FC_view learns
+to pick the candidate view the oracle picks (DAgger: a step follows the oracle or FC_view).
 Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU).
 """
 from __future__ import annotations
@@ -32,7 +32,7 @@ from .model import ModelConfig, RecurrentAttention
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
-POLICIES = ("learned", "reinforce", "imitation")
+POLICIES = ("learned", "reinforce", "hybrid", "imitation")
 
 
 @dataclass
@@ -41,8 +41,9 @@ class TrainConfig:
     root: str | None = None
     out: str = "runs/procedural"
     stage: str = "all"                # pretrain | joint | all
-    policy: str = "learned"           # learned (end to end) | reinforce | imitation (of the oracle)
+    policy: str = "learned"           # learned (end to end) | reinforce | hybrid (both) | imitation
     imitation_mix: float = 0.5        # imitation: chance that a step follows the oracle, not FC_view
+    revisit_penalty: float = 0.0      # learned: weight of VERAM's penalty on revisiting views
     pretrain_epochs: int = 6
     joint_epochs: int = 6
     batch_size: int = 32
@@ -70,6 +71,8 @@ class TrainConfig:
             raise ValueError(f"view gradient must be paper or surface, got {self.view_gradient!r}")
         if self.policy not in POLICIES:
             raise ValueError(f"policy must be one of {POLICIES}, got {self.policy!r}")
+        if not (math.isfinite(self.revisit_penalty) and self.revisit_penalty >= 0):
+            raise ValueError(f"revisit_penalty must be >= 0, got {self.revisit_penalty}")
         if not 0 <= self.imitation_mix <= 1:
             raise ValueError(f"imitation_mix must lie in [0, 1], got {self.imitation_mix}")
         if self.batch_size < 1 or self.steps < 1:
@@ -142,16 +145,30 @@ class PretrainLoss(nn.Module):
 class JointLoss(nn.Module):
     """A whole batch of episodes, rendered through the differentiable depth layer."""
 
-    def __init__(self, model, steps, rule, reduction, weighting="uniform"):
+    def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0):
         super().__init__()
         self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
+        self.revisit = revisit
 
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
         loss = steps_loss(out, labels, self.weights)
+        if self.revisit:
+            loss = loss + self.revisit * revisit_penalty(torch.stack(ep.views[:self.steps], 1))
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
+
+
+def revisit_penalty(views, within=math.radians(30)):
+    """VERAM's penalty on looking again where one has looked: for every view (B, T, 2) and each
+    earlier one, how far the cosine of the angle between them exceeds cos(`within`), averaged.
+    Differentiable in the views, so it pushes FC_loc's increments apart."""
+    t, p = views.unbind(-1)
+    pos = torch.stack([t.sin() * p.cos(), t.sin() * p.sin(), t.cos()], -1)     # (B, T, 3)
+    cos = pos @ pos.transpose(1, 2)                                              # (B, T, T)
+    earlier = torch.ones_like(cos[0]).tril(-1).bool()
+    return torch.relu(cos[:, earlier] - math.cos(within)).sum(1).mean()
 
 
 class ReinforceLoss(nn.Module):
@@ -159,19 +176,23 @@ class ReinforceLoss(nn.Module):
 
     No gradient crosses the depth layer; the reward is a correct final prediction plus the
     entropy decrease over the episode (in units of log C); the baseline is a running mean.
+    With `rule` (the hybrid policy) the renders are differentiable too: FC_loc learns from the
+    depth layer's view gradient (through the sampled increments) and from REINFORCE at once.
     """
 
-    def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9):
+    def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9,
+                 rule=None, reduction="mean"):
         super().__init__()
         self.model, self.steps, self.std = model, steps, std
+        self.rule, self.reduction = rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
         self.entropy_weight, self.momentum = entropy_weight, momentum
         self.register_buffer("baseline", torch.zeros(()))
 
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     exploration_std=self.std)
-        out = run(ep, cameras, views, self.steps)
+                     exploration_std=self.std, explore_through=self.rule is not None)
+        out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
         ce = steps_loss(out, labels, self.weights)
         correct = (out[-1].logits.argmax(1) == labels).float()
         gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
@@ -375,13 +396,15 @@ def train(cfg: TrainConfig, progress=True):
             opt_state = None
         if stage == "pretrain":
             wrapper = PretrainLoss(model)
-        elif cfg.policy == "reinforce":
-            wrapper = ReinforceLoss(model, cfg.steps, cfg.step_weighting)
+        elif cfg.policy in ("reinforce", "hybrid"):
+            rule = cfg.view_gradient if cfg.policy == "hybrid" else None
+            wrapper = ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
+                                    reduction=cfg.gradient_reduction)
         elif cfg.policy == "imitation":
             wrapper = ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix)
         else:
             wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
-                                cfg.step_weighting)
+                                cfg.step_weighting, cfg.revisit_penalty)
         # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
         net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
                if world > 1 else wrapper)

@@ -141,3 +141,14 @@ def test_executor_never_queues_a_callback_twice(loop):
     for _ in range(3):
         assert recognize(executor, client) is not None
     assert submitted and len({id(t) for t in submitted}) == len(submitted)
+
+
+def test_demo_on_twins_uses_the_shipped_twins_model_and_its_best_planner():
+    from active_recognition.nodes.demo import run_demo
+    lines = []
+    summary = run_demo(objects=3, seed=2, dataset="twins", out=lines.append)
+    assert summary["planner"] == "imitation" and summary["objects"] == 3
+    assert summary["answered"] == 3 and summary["rejected_images"] == 0
+    assert lines[-1].startswith("planner imitation: accuracy")
+    with pytest.raises(ValueError, match="objects must be 1..600"):
+        run_demo(objects=0, dataset="twins")

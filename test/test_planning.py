@@ -175,3 +175,65 @@ def test_imitation_targets_are_the_candidates_after_which_the_true_class_is_like
                 p = model.classify(model.cell(x, hidden[b:b + 1])).log_softmax(-1)[0]
                 ce.append(math.inf if visited[b, k] else -float(p[labels[b]]))
             assert int(target[b]) == int(np.argmin(ce))
+
+
+def test_revisit_penalty_counts_close_pairs_and_pushes_views_apart():
+    from active_recognition.train import revisit_penalty
+    far = torch.tensor([[[0.5, 0.0], [2.5, 3.0], [1.5, 1.5]]])
+    assert float(revisit_penalty(far)) == 0.0  # every pair more than 30 degrees apart
+    close = torch.tensor([[[1.0, 0.0], [1.0, 0.1], [2.5, 3.0]]], requires_grad=True)
+    value = revisit_penalty(close)
+    assert float(value) == pytest.approx(math.cos(0.1 * math.sin(1.0)) - math.cos(math.radians(30)),
+                                         abs=1e-4)
+    value.backward()
+    g = close.grad[0]
+    assert g[1, 1] < 0 < g[0, 1]  # descent moves the two close views apart in phi
+    assert torch.all(g[2] == 0)
+
+
+def test_recognizer_planner_auto_is_the_checkpoint_default_and_oracle_is_refused(tmp_path):
+    from active_recognition import checkpoint
+    from active_recognition.recognizer import ActiveRecognizer, choose_planner
+    model = small_model()
+    payload = {"model": model.state_dict(), "model_args": model.config.to_dict(),
+               "classes": ["a", "b", "c"]}
+    checkpoint.save(tmp_path / "m.pt", payload)
+    assert choose_planner("auto", model, payload) == "imitation"   # it has FC_view
+    assert choose_planner("auto", small_model(candidates=0), payload) == "learned"
+    checkpoint.save(tmp_path / "d.pt", {**payload, "default_planner": "straight"})
+    assert ActiveRecognizer(tmp_path / "d.pt").planner == "straight"
+    core = ActiveRecognizer(tmp_path / "m.pt", planner="random", seed=4)
+    assert core.planner == "random"
+    with pytest.raises(ValueError, match="oracle needs the object's mesh"):
+        ActiveRecognizer(tmp_path / "m.pt", planner="oracle")
+    with pytest.raises(ValueError, match="fixed planner needs its path"):
+        ActiveRecognizer(tmp_path / "m.pt", planner="fixed")
+    checkpoint.save(tmp_path / "f.pt", {**payload, "fixed_path": [[0.3, 0.2], [2.0, 1.0]]})
+    core = ActiveRecognizer(tmp_path / "f.pt", planner="fixed")
+    core.reset()
+    obs = core.observe(np.full((64, 64), 0.8, dtype=np.float32))
+    assert obs.next_view == pytest.approx((0.3, 0.2))
+
+
+def test_hybrid_adds_the_depth_layer_gradient_to_reinforce():
+    """With explore_through (the hybrid) the classification loss reaches FC_loc through the
+    sampled increments and the depth layer; with plain REINFORCE it does not at all, and the
+    sampled views are the same either way."""
+    from active_recognition.episode import run
+    from active_recognition.train import steps_loss
+    ds = open_dataset("twins", split="test", per_class=1)
+    cams = [DepthCamera(*ds.mesh(i)) for i in range(3)]
+    views = geometry.fibonacci_views(50)[[3, 20, 41]]
+    labels = torch.tensor([0, 1, 2])
+    grads, paths = {}, {}
+    for through in (False, True):
+        model = small_model(candidates=0)
+        ep = Episode(model, EpisodeConfig(3, 0.0), exploration_std=0.3, explore_through=through)
+        torch.manual_seed(5)
+        out = run(ep, cams, views, 3, "surface" if through else None)
+        steps_loss(out, labels, [1 / 3] * 3).backward()
+        grads[through] = model.locate.weight.grad
+        paths[through] = torch.stack(ep.views, 1).detach()
+    torch.testing.assert_close(paths[True], paths[False])
+    assert grads[False] is None or float(grads[False].abs().sum()) == 0.0
+    assert torch.isfinite(grads[True]).all() and float(grads[True].abs().sum()) > 0

@@ -15,8 +15,8 @@ from active_recognition.train import Shapes
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
-def episodes(n, seed):
-    test = Shapes(open_dataset("procedural", split="test", cache_dir=default_cache_dir()),
+def episodes(n, seed, dataset="procedural"):
+    test = Shapes(open_dataset(dataset, split="test", cache_dir=default_cache_dir()),
                   CameraConfig(64, 64))
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(test))[:n])
@@ -64,3 +64,20 @@ def test_oracle_picks_the_least_entropy_candidate_by_brute_force():
             # the oracle's choice after step 2, recomputed the slow way from the same state
             chosen = oracle.next_view(ep, None)[i]
             np.testing.assert_allclose(chosen, oracle.candidates[int(h.argmin())])
+
+
+def test_shipped_twins_model_chooses_views_that_pay():
+    """twins.pt with its own planner (FC_view) scores the README's figure after 3 views on 120
+    seeded test objects (the figure is this sample's; one object either way is allowed for
+    floating-point differences between machines) and beats random views by 8 points on the
+    same episodes."""
+    figure = float(re.search(r"<!-- twins-acc3 -->\s*([0-9.]+)", README.read_text()).group(1))
+    model, classes, ckpt = checkpoint.load_model(checkpoint.shipped("twins"))
+    assert ckpt["config"]["dataset"] == "twins" and len(classes) == 12
+    assert ckpt["default_planner"] == "imitation" and model.config.view_input
+    test, idx, views = episodes(120, seed=2024, dataset="twins")
+    own = accuracy(model, test, idx, views, 3, make_planner("imitation", model=model))
+    rand = accuracy(model, test, idx, views, 3, make_planner("random", seed=1))
+    print(f"twins.pt after 3 views: imitation {own:.3f}, random {rand:.3f}")
+    assert abs(own - figure) <= 1 / 120 + 1e-9
+    assert own >= rand + 0.08

@@ -153,6 +153,30 @@ def telling_side(label: int):
     return axis, sign
 
 
+def face_view(axis, sign, tilt=0.3):
+    """(theta, phi) looking at face (axis, sign) from `tilt` radians off its normal."""
+    normal, other = np.zeros(3), np.zeros(3)
+    normal[axis], other[(axis + 1) % 3] = sign, 1.0
+    d = np.cos(tilt) * normal + np.sin(tilt) * other
+    return float(np.arccos(np.clip(d[2], -1, 1))), float(np.arctan2(d[1], d[0]))
+
+
+def pair_sheet(seed=0):
+    """Contact-sheet rows, one per pair built from one seed: both twins seen into their niche
+    (tells them apart), then both from the opposite side (does not).
+    Returns (images (6, 4, 64, 64), row labels, column titles)."""
+    from ..depth_layer import DepthCamera
+    rows, labels = [], []
+    for pair, (base, axis, sign) in enumerate(PAIRS):
+        views = np.array([face_view(axis, sign), face_view(axis, -sign)])
+        a, b = (DepthCamera(*make_shape(2 * pair + k, seed + pair)).render(views) for k in (0, 1))
+        rows.append([a[0], b[0], a[1], b[1]])
+        labels.append(f"{base} ({SIDES[axis, sign]})")
+    titles = [f"{DETAILS[0]}, niche", f"{DETAILS[1]}, niche", f"{DETAILS[0]}, opposite",
+              f"{DETAILS[1]}, opposite"]
+    return np.array(rows), labels, titles
+
+
 def make_shape(label: int, seed: int):
     """Build one shape of class `label` from `seed`: (vertices (V, 3) in [-0.5, 0.5]^3, faces).
 

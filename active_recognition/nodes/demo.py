@@ -122,7 +122,9 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             out(f"object {n + 1}/{len(order)}: true={truth:<12} predicted={result['label']:<12} "
                 f"p={result['probability']:.2f} views={result['views']:<2} time={ms:.0f} ms "
                 f"{'ok' if ok else 'WRONG'}")
-        summary = {"objects": len(rows), "accuracy": float(np.mean([r[0] for r in rows])),
+        summary = {"objects": len(rows), "planner": recognizer.core.planner,
+                   "answered": sum(r[1] > 0 for r in rows),
+                   "accuracy": float(np.mean([r[0] for r in rows])),
                    "mean_views": float(np.mean([r[1] for r in rows])),
                    "ms_per_episode_p50": float(np.median([r[2] for r in rows])),
                    "rejected_images": recognizer.rejected}
