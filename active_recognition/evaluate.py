@@ -233,13 +233,16 @@ def compare_runs(checkpoints, planners=("learned", "random", "straight"), starts
     `checkpoints` maps a label to a model file. Returns {label: {planner: accuracy after 1..steps
     views}}: random and straight are scored with that model's own classifier, so a row compares
     its view head with the baselines under one classifier (ablations, training variants).
+    "learned" is the run's own view head: FC_view for a run trained with policy imitation.
     """
     cfg = EvalConfig(dataset=dataset, root=root, split=split, starts=starts, seed=seed, steps=steps,
                      objects=objects)
     out, splits = {}, {}
     for label, path in checkpoints.items():
         model, _, shapes = checkpoint_split(path, cfg, splits)
+        policy = checkpoint.read(path).get("config", {}).get("policy")
         idx, st = sample_episodes(objects, len(shapes), starts, seed)
-        out[label] = {n: np.round(rollout(n, model, shapes, idx, st, cfg).accuracy(), 4).tolist()
-                      for n in planners}
+        out[label] = {n: np.round(rollout("imitation" if n == "learned" and policy == "imitation"
+                                          else n, model, shapes, idx, st, cfg).accuracy(),
+                                  4).tolist() for n in planners}
     return out

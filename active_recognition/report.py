@@ -187,8 +187,9 @@ def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
 
 RESULTS_HEADER = """# Results on the procedural benchmark
 
-Written by `python benchmarks/planners.py` (the whole procedural test split, 500 objects, one
-seeded initial view each of the 50, the same for every planner). The models and metrics it reads:
+Written by `python benchmarks/planners.py` (the whole procedural test split, 500 objects, 3
+seeded initial views each of the 50, the same for every planner: 1,500 episodes). The models and
+metrics it reads (the shipped ones by default):
 
 ```
 active-recognition train --config config/train_procedural.yaml   # learned: the shipped model
@@ -196,8 +197,8 @@ for run in learned_t reinforce reinforce_t; do mkdir -p runs/$run; cp runs/ship/
 active-recognition train --config config/train_reinforce.yaml    # REINFORCE, same pre-training
 active-recognition train --out runs/learned_t --stage joint --joint-epochs 12     # timing re-runs
 active-recognition train --config config/train_reinforce.yaml --out runs/reinforce_t
-python benchmarks/planners.py --checkpoint runs/ship/final.pt \\
-    --reinforce-checkpoint runs/reinforce/final.pt \\
+python benchmarks/planners.py --ship --checkpoint runs/ship/final.pt \\
+    --planner-checkpoint learned=runs/ship/final.pt --planner-checkpoint reinforce=runs/reinforce/final.pt \\
     --learned-metrics runs/learned_t/metrics.csv --reinforce-metrics runs/reinforce_t/metrics.csv
 ```
 The two joint-stage timing re-runs behind the training-time comparison ran one after the other on
@@ -218,6 +219,14 @@ VIEW_HEAD_RUNS = {
     "init40+early+step1.2": "--initial-step 0 0.698 --step-weighting early --max-step 1.2",
     "reinforce": "--policy reinforce",
     "reinforce+init40+early": "--policy reinforce --initial-step 0 0.698 --step-weighting early",
+}
+# The twins candidate runs (besides imitation, runs/twins): label -> joint-stage flags
+TWINS_CANDIDATES = {
+    "learned": "--policy learned --joint-epochs 12",
+    "fixes": "--policy learned --joint-epochs 12 --revisit-penalty 1.0 --initial-step 0 0.7 "
+             "--step-weighting early",
+    "reinforce": "--policy reinforce --joint-epochs 12",
+    "hybrid": "--policy hybrid --joint-epochs 12 --initial-step 0 0.7 --step-weighting early",
 }
 ABLATIONS = ["hidden_64", "hidden_128", "hidden_256", "hidden_512", "hidden_1024",
              "radius_0.5", "radius_1.0", "radius_1.5", "radius_2.0", "radius_2.5"]
@@ -311,6 +320,17 @@ def write_results_page(path, results):
         + ["python benchmarks/runs_table.py ablations " + " ".join(
             f"{a}=runs/ablation_{a}" for a in ABLATIONS)])
     parts += twins_section(results / "twins")
+    parts += study_section(
+        results / "twins_candidates.json", "Twins: every candidate planner",
+        "Joint-stage runs from the twins pre-training (`runs/twins/pretrained.pt`), each driving "
+        "its own view head (FC_view for imitation, FC_loc otherwise) and random and straight views "
+        "with its own classifier, on the twins test split, 3 seeded starts per object. `fixes` is "
+        "the end-to-end planner with the revisit penalty, a 40-degree initial step and early-step "
+        "weighting; `hybrid` adds REINFORCE to the view gradient.",
+        [f"active-recognition train --config config/train_twins.yaml --out runs/twins_{k} "
+         f"--stage joint {v}" for k, v in TWINS_CANDIDATES.items()]
+        + ["python benchmarks/runs_table.py twins_candidates " + " ".join(
+            f"{k}=runs/twins_{k}" for k in TWINS_CANDIDATES) + " imitation=runs/twins"])
     parts.append("")
     tmp = Path(path).with_name(f".{Path(path).name}.tmp")
     tmp.write_text("\n".join(parts))
@@ -318,14 +338,16 @@ def write_results_page(path, results):
 
 
 TWINS_COMMANDS = """active-recognition train --config config/train_twins.yaml                    # imitation: twins.pt
-for run in twins_learned twins_reinforce; do mkdir -p runs/$run; cp runs/twins/pretrained.pt runs/$run/; done
-active-recognition train --config config/train_twins.yaml --out runs/twins_learned --stage joint \\
-    --policy learned --joint-epochs 12                                        # twins_learned.pt
-active-recognition train --config config/train_twins.yaml --out runs/twins_reinforce --stage joint \\
-    --policy reinforce --joint-epochs 12                                      # twins_reinforce.pt
+for run in twins_learned twins_fixes twins_reinforce twins_hybrid; do
+    mkdir -p runs/$run; cp runs/twins/pretrained.pt runs/$run/; done
+# the candidates of the table below (runs/twins_<label>, flags in its commands), then:
+cp runs/twins/final.pt active_recognition/checkpoints/twins.pt
+cp runs/twins_fixes/final.pt active_recognition/checkpoints/twins_learned.pt   # best end to end
+cp runs/twins_reinforce/final.pt active_recognition/checkpoints/twins_reinforce.pt
+cp runs/twins_fixes/metrics.csv docs/results/twins/learned_metrics.csv
+cp runs/twins_reinforce/metrics.csv docs/results/twins/reinforce_metrics.csv
 python benchmarks/dataset_difficulty.py --dataset twins --out docs/results/twins/difficulty.json
-python benchmarks/planners.py --dataset twins \\
-    --learned-metrics runs/twins_learned/metrics.csv --reinforce-metrics runs/twins_reinforce/metrics.csv"""
+python benchmarks/planners.py --dataset twins --ship"""
 
 
 def twins_section(folder):
@@ -339,7 +361,10 @@ def twins_section(folder):
              "at the back of a niche that is seen from about 45 degrees around one face, and each "
              "pair has its niche on another face (README, 'The twins benchmark'). Every planner "
              "runs the same episodes: the whole test split (600 objects), 3 seeded initial views "
-             "each (1,800 episodes). The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
+             "each (1,800 episodes). `learned` drives twins_learned.pt (the best end-to-end run, "
+             "`fixes` in the candidate table below), `reinforce` twins_reinforce.pt; random, "
+             "straight, fixed, imitation and the oracle drive twins.pt, whose classifier scores "
+             "their views. The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
     if (folder / "difficulty.json").is_file():
         d = json.loads((folder / "difficulty.json").read_text())
         parts += ["", "## Headroom (`benchmarks/dataset_difficulty.py`, one view-pooling classifier "

@@ -4,7 +4,10 @@ that run's own classifier on the whole procedural test split (3 seeded initial v
 Two studies feed docs/RESULTS.md:
   ablations  -- the presets config/ablation_*.yaml (hidden size, radius), accuracy at 5 views;
   view_head  -- joint-stage variants from one pre-trained classifier (step bound, initial step,
-                step weighting, REINFORCE), accuracy at 3 views.
+                step weighting, REINFORCE), accuracy at 3 views;
+  twins_candidates -- the candidate planners on the twins benchmark (end to end, its fixes,
+                REINFORCE, the hybrid, imitation), each with its own view head (FC_view for
+                imitation), accuracy at 3 views.
 Writes docs/results/<study>.json and re-renders docs/RESULTS.md. Last line is JSON.
 """
 import argparse
@@ -16,7 +19,8 @@ from active_recognition.evaluate import compare_runs, write_json
 from active_recognition.report import write_results_page
 
 ROOT = Path(__file__).resolve().parents[1]
-VIEWS = {"ablations": 5, "view_head": 3}
+VIEWS = {"ablations": 5, "view_head": 3, "twins_candidates": 3}
+DATASET = {"twins_candidates": "twins"}  # the others are procedural studies
 
 
 def main():
@@ -36,7 +40,7 @@ def main():
         if not path.is_file():
             ap.error(f"{path}: no such checkpoint (train the run first)")
         runs[label] = str(path)
-    acc = compare_runs(runs, starts=args.starts)
+    acc = compare_runs(runs, starts=args.starts, dataset=DATASET.get(args.study, "procedural"))
     k = VIEWS[args.study]
     data = {"views": k, "starts": args.starts, "acc": acc}
     write_json(Path(args.out) / f"{args.study}.json", data)
