@@ -183,8 +183,8 @@ def test_revisit_penalty_counts_close_pairs_and_pushes_views_apart():
     assert float(revisit_penalty(far)) == 0.0  # every pair more than 30 degrees apart
     close = torch.tensor([[[1.0, 0.0], [1.0, 0.1], [2.5, 3.0]]], requires_grad=True)
     value = revisit_penalty(close)
-    assert float(value.detach()) == pytest.approx(math.cos(0.1 * math.sin(1.0)) - math.cos(math.radians(30)),
-                                         abs=1e-4)
+    expected = math.cos(0.1 * math.sin(1.0)) - math.cos(math.radians(30))
+    assert float(value.detach()) == pytest.approx(expected, abs=1e-4)
     value.backward()
     g = close.grad[0]
     assert g[1, 1] < 0 < g[0, 1]  # descent moves the two close views apart in phi
