@@ -235,19 +235,14 @@ class ImitationLoss(nn.Module):
             return loss.argmin(1)
 
     def forward(self, cameras, views, labels):
-        from .depth_layer import render_views
         model, k = self.model, len(self.candidates)
         with torch.no_grad():
             depth = np.stack([c.render(self.candidates) for c in cameras])          # (B, K, H, W)
             feats = model.features(torch.from_numpy(depth).flatten(0, 1).to(labels.device))
+        self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      planner=self)
-        ep.reset(torch.as_tensor(views, dtype=torch.float32))
-        self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
-        out = []
-        for _ in range(self.steps):
-            depth = render_views(ep.view.detach().double(), cameras, "paper", "mean")
-            out.append(ep.step(depth.float()))
+        out = run(ep, cameras, views, self.steps)  # plain renders: the views come from next_view
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 

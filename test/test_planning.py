@@ -237,3 +237,18 @@ def test_hybrid_adds_the_depth_layer_gradient_to_reinforce():
     torch.testing.assert_close(paths[True], paths[False])
     assert grads[False] is None or float(grads[False].abs().sum()) == 0.0
     assert torch.isfinite(grads[True]).all() and float(grads[True].abs().sum()) > 0
+
+
+def test_imitation_loss_trains_fc_view_and_not_fc_loc():
+    ds = open_dataset("twins", split="test", per_class=1)
+    cams = [DepthCamera(*ds.mesh(i)) for i in range(3)]
+    cands = geometry.fibonacci_views(10)
+    model = small_model(candidates=10).train()
+    loss = ImitationLoss(model, steps=4, mix=1.0)  # always the oracle: views are its targets
+    torch.manual_seed(0)
+    value, acc = loss(cams, cands[[0, 4, 7]], torch.tensor([0, 1, 2]))
+    value.backward()
+    assert torch.isfinite(value) and 0 <= float(acc) <= 1
+    assert float(model.score_views.weight.grad.abs().sum()) > 0   # FC_view learns
+    assert model.locate.weight.grad is None                      # FC_loc is not used
+    assert len(loss.head_losses) == 4
