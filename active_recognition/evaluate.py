@@ -26,7 +26,7 @@ from .train import Shapes
 
 @dataclass
 class EvalConfig:
-    checkpoint: str | None = None            # the model (default: the shipped one)
+    checkpoint: str | None = None            # the model (default: the dataset's shipped one)
     reinforce_checkpoint: str | None = None  # the REINFORCE-trained model, for "reinforce"
     planner_checkpoints: dict = field(default_factory=dict)  # planner -> its own model file
     planners: tuple = ("learned", "random", "straight", "oracle")
@@ -106,6 +106,8 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
     """(model, classes, cfg's dataset split as the model's camera sees it) for a checkpoint
     (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
     splits (and their built cameras) for the next checkpoint with the same camera."""
+    if path is None and cfg.dataset in ("procedural", "twins"):
+        path = checkpoint.shipped(cfg.dataset)  # the embedded dataset's own shipped model
     model, classes, _ = checkpoint.load_model(path)
     size, radius = model.config.image_size, model.config.radius
     splits = {} if splits is None else splits

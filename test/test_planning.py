@@ -252,3 +252,11 @@ def test_imitation_loss_trains_fc_view_and_not_fc_loc():
     assert float(model.score_views.weight.grad.abs().sum()) > 0   # FC_view learns
     assert model.locate.weight.grad is None                      # FC_loc is not used
     assert len(loss.head_losses) == 4
+
+
+def test_evaluation_defaults_to_the_embedded_datasets_own_shipped_model():
+    from active_recognition.evaluate import EvalConfig, checkpoint_split
+    for name in ("procedural", "twins"):
+        model, classes, shapes = checkpoint_split(None, EvalConfig(dataset=name))
+        assert classes == list(shapes.ds.classes) and shapes.ds.name == name
+    assert model.config.candidates == 50 and model.config.view_input  # twins.pt
