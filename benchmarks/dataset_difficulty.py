@@ -73,6 +73,7 @@ def main():
           "headroom_best_vs_random": acc3_best - acc3_random,
           "headroom_best_vs_fixed": acc3_best - acc3_fixed, "test_objects": len(idx),
           "seconds": round(time.perf_counter() - t0, 1)}
+    result = {k: round(v, 4) if isinstance(v, float) else v for k, v in result.items()}
     if args.out:
         write_json(Path(args.out), result)
     emit(result)
