@@ -200,6 +200,7 @@ active-recognition train --config config/train_reinforce.yaml --out runs/reinfor
 python benchmarks/planners.py --ship --checkpoint runs/ship/final.pt \\
     --planner-checkpoint learned=runs/ship/final.pt --planner-checkpoint reinforce=runs/reinforce/final.pt \\
     --learned-metrics runs/learned_t/metrics.csv --reinforce-metrics runs/reinforce_t/metrics.csv
+python benchmarks/dataset_difficulty.py --out docs/results/difficulty.json    # the headroom
 ```
 The two joint-stage timing re-runs behind the training-time comparison ran one after the other on
 an otherwise idle 2-core machine with the current depth layer (`docs/results/*_metrics.csv`); the
@@ -246,6 +247,13 @@ def study_section(path, title, intro, commands):
             table(rows, ["run", "own view head", "random", "straight", "own head - best baseline"])]
 
 
+def accuracy_rows(s, key, err):
+    """Table rows of a summary's accuracies (%) at 3 / 6 / 9 views, with the standard error at 3
+    when the summary has it."""
+    return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()]
+            + ([f"{100 * s[err][k]:.1f}"] if err in s else []) for k in s[key]]
+
+
 def write_results_page(path, results):
     """docs/RESULTS.md from the summaries under `results` (summary.json: procedural;
     twins/summary.json and twins/difficulty.json: the twins benchmark), beside the paper's."""
@@ -253,17 +261,15 @@ def write_results_page(path, results):
     s = json.loads((results / "summary.json").read_text())
     threshold = s.get("entropy_threshold", 0.1)
 
-    def rows(key):
-        return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()] for k in s[key]]
-
     def fmt(seconds):
         return "never" if seconds is None else f"{seconds:.0f} s"
 
     t = s.get("training_time", {})
     ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"
-    parts = [RESULTS_HEADER,
+    parts = [RESULTS_HEADER, *headroom_section(results / "difficulty.json"), "",
              "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own recurrent classifier", "",
-             table(rows("acc"), ["planner", "3", "6", "9"])]
+             table(accuracy_rows(s, "acc", "stderr_3"),
+                   ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3" in s else []))]
     acc3 = {k: v.get("3") for k, v in s["acc"].items()}
     if acc3.get("oracle") is not None and acc3.get("random") is not None:
         parts += ["", f"Headroom at 3 views: the privileged oracle is "
@@ -273,7 +279,8 @@ def write_results_page(path, results):
                   "this benchmark leaves room for."]
     if "acc_shared" in s:
         parts += ["", "## The same views scored by one shared multi-view classifier", "",
-                  table(rows("acc_shared"), ["planner", "3", "6", "9"])]
+                  table(accuracy_rows(s, "acc_shared", "stderr_3_shared"),
+                        ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3_shared" in s else []))]
     parts += ["", "## Information gain per step (nats)", "",
               table([[k] + [f"{g:.3f}" for g in v] for k, v in s["gain"].items()],
                     ["planner"] + [str(i + 1) for i in range(len(next(iter(s["gain"].values()))))]),
@@ -350,6 +357,22 @@ python benchmarks/dataset_difficulty.py --dataset twins --out docs/results/twins
 python benchmarks/planners.py --dataset twins --ship"""
 
 
+def headroom_section(path):
+    """The room a planner has, from benchmarks/dataset_difficulty.py's JSON (if written)."""
+    if not Path(path).is_file():
+        return []
+    d = json.loads(Path(path).read_text())
+    return ["", "## Headroom (`benchmarks/dataset_difficulty.py`, one view-pooling classifier "
+            "trained on random views)", "",
+            table([[f"{100 * d[k]:.1f}" for k in ("acc_1_view", "acc_3_random", "acc_3_best",
+                                                  "acc_3_best_fixed", "acc_9_views")]],
+                  ["1 random view", "3 random", "best 3 of 50 (privileged)",
+                   "random + best fixed 2", "9 spread"]),
+            "", f"Best 3 minus 3 random: {100 * (d['acc_3_best'] - d['acc_3_random']):+.1f} "
+            f"points; best 3 minus the best fixed path: "
+            f"{100 * (d['acc_3_best'] - d['acc_3_best_fixed']):+.1f} points."]
+
+
 def twins_section(folder):
     """The twins benchmark: its headroom, and every planner on the same episodes."""
     folder = Path(folder)
@@ -365,26 +388,12 @@ def twins_section(folder):
              "`fixes` in the candidate table below), `reinforce` twins_reinforce.pt; random, "
              "straight, fixed, imitation and the oracle drive twins.pt, whose classifier scores "
              "their views. The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
-    if (folder / "difficulty.json").is_file():
-        d = json.loads((folder / "difficulty.json").read_text())
-        parts += ["", "## Headroom (`benchmarks/dataset_difficulty.py`, one view-pooling classifier "
-                  "trained on random views)", "",
-                  table([[f"{100 * d[k]:.1f}" for k in ("acc_1_view", "acc_3_random", "acc_3_best",
-                                                        "acc_3_best_fixed", "acc_9_views")]],
-                        ["1 random view", "3 random", "best 3 of 50 (privileged)",
-                         "random + best fixed 2", "9 spread"]),
-                  "", f"Best 3 minus 3 random: {100 * (d['acc_3_best'] - d['acc_3_random']):+.1f} "
-                  f"points; best 3 minus the best fixed path: "
-                  f"{100 * (d['acc_3_best'] - d['acc_3_best_fixed']):+.1f} points."]
-
-    def rows(key, err):
-        return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()]
-                + [f"{100 * s[err][k]:.1f}"] for k in s[key]]
+    parts += headroom_section(folder / "difficulty.json")
 
     parts += ["", "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own classifier", "",
-              table(rows("acc", "stderr_3"), ["planner", "3", "6", "9", "s.e. at 3"]),
+              table(accuracy_rows(s, "acc", "stderr_3"), ["planner", "3", "6", "9", "s.e. at 3"]),
               "", "## The same views scored by the shared multi-view classifier", "",
-              table(rows("acc_shared", "stderr_3_shared"), ["planner", "3", "6", "9", "s.e. at 3"])]
+              table(accuracy_rows(s, "acc_shared", "stderr_3_shared"), ["planner", "3", "6", "9", "s.e. at 3"])]
     acc3 = {k: v["3"] for k, v in s["acc"].items()}
     sh3 = {k: v["3"] for k, v in s["acc_shared"].items()}
     best = s.get("default_planner")
