@@ -13,7 +13,7 @@ STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
 INT = ParameterType.PARAMETER_INTEGER
 PARAMS = {  # name: (default, type, description)
     "mesh": ("", STR, "mesh file to show; empty = an object of `dataset`"),
-    "dataset": ("procedural", STR, "procedural, modelnet, shapenet or folder"),
+    "dataset": ("procedural", STR, "procedural, twins, modelnet, shapenet or folder"),
     "root": ("", STR, "dataset root (not for procedural)"),
     "split": ("test", STR, "train or test"),
     "index": (0, INT, "which object of the dataset split"),
