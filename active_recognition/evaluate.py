@@ -103,12 +103,12 @@ def score_shared(net, shapes, ro: Rollout, chunk=50):
 
 
 def checkpoint_split(path, cfg: EvalConfig, splits=None):
-    """(model, classes, cfg's dataset split as the model's camera sees it) for a checkpoint
-    (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
+    """(model, classes, cfg's dataset split as the model's camera sees it, the checkpoint dict)
+    for a checkpoint (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
     splits (and their built cameras) for the next checkpoint with the same camera."""
     if path is None and cfg.dataset in ("procedural", "twins"):
         path = checkpoint.shipped(cfg.dataset)  # the embedded dataset's own shipped model
-    model, classes, _ = checkpoint.load_model(path)
+    model, classes, ckpt = checkpoint.load_model(path)
     size, radius = model.config.image_size, model.config.radius
     splits = {} if splits is None else splits
     if (size, radius) not in splits:
@@ -119,7 +119,7 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
     if list(shapes.ds.classes) != classes:
         raise ValueError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
                          f"not the dataset's {shapes.ds.classes}")
-    return model, classes, shapes
+    return model, classes, shapes, ckpt
 
 
 def evaluate(cfg: EvalConfig, progress=True):
@@ -136,7 +136,7 @@ def evaluate(cfg: EvalConfig, progress=True):
         if name not in PLANNERS or not Path(path).is_file():
             raise ValueError(f"planner checkpoint {name}={path}: " + (
                 "no such planner" if name not in PLANNERS else "no such file"))
-    model, classes, test = checkpoint_split(cfg.checkpoint, cfg)
+    model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     out = Path(cfg.out)
@@ -241,8 +241,8 @@ def compare_runs(checkpoints, planners=("learned", "random", "straight"), starts
                      objects=objects)
     out, splits = {}, {}
     for label, path in checkpoints.items():
-        model, _, shapes = checkpoint_split(path, cfg, splits)
-        policy = checkpoint.read(path).get("config", {}).get("policy")
+        model, _, shapes, ckpt = checkpoint_split(path, cfg, splits)
+        policy = ckpt.get("config", {}).get("policy")
         idx, st = sample_episodes(objects, len(shapes), starts, seed)
         out[label] = {n: np.round(rollout("imitation" if n == "learned" and policy == "imitation"
                                           else n, model, shapes, idx, st, cfg).accuracy(),

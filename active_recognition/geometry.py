@@ -50,6 +50,13 @@ def camera_position(theta, phi, radius=1.0):
     return radius * np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], -1)
 
 
+def unit_position(views):
+    """Torch views (..., 2) as (theta, phi) -> unit camera positions (..., 3), differentiable."""
+    import torch
+    t, p = views.unbind(-1)
+    return torch.stack([t.sin() * p.cos(), t.sin() * p.sin(), t.cos()], -1)
+
+
 def camera_axes(theta, phi):
     """(forward, up, right) unit vectors, each (..., 3), of the camera at view (theta, phi)."""
     rot = view_rotation(theta, phi)

@@ -13,6 +13,8 @@ from dataclasses import asdict, dataclass
 import torch
 from torch import nn
 
+from .geometry import unit_position
+
 ENCODERS = ("compact", "alexnet")
 INPUT_SIZE = {"compact": 64, "alexnet": 227}
 
@@ -93,8 +95,7 @@ class RecurrentAttention(nn.Module):
             return features
         if view is None:
             raise ValueError("this model reads the current view (view_input): pass view (B, 2)")
-        t, p = view.detach().to(features.dtype).unbind(-1)
-        position = torch.stack([t.sin() * p.cos(), t.sin() * p.sin(), t.cos()], -1)
+        position = unit_position(view.detach().to(features.dtype))
         return torch.cat([features, position.expand(len(features), 3)], -1)
 
     def forward(self, depth, hidden, view=None):

@@ -88,6 +88,16 @@ class ImitationPlanner:
         return self.candidates[scores.argmax(1)]
 
 
+def lookahead_logits(model, features, hidden, views):
+    """Class logits after one more step from each state, with each candidate view:
+    features (B, K, F) of the candidates, hidden (B, H), views (K, 2) -> (B, K, C)."""
+    b, k = features.shape[:2]
+    views = torch.as_tensor(views, dtype=torch.float32, device=features.device)
+    inputs = model.cell_input(features.reshape(b * k, -1), views.repeat(b, 1))
+    h = model.cell(inputs, hidden.repeat_interleave(k, 0))
+    return model.classify(h).reshape(b, k, -1)
+
+
 class OraclePlanner:
     """Greedy one-step information gain over a fixed candidate set. Sees the object: privileged.
 
@@ -109,11 +119,8 @@ class OraclePlanner:
                 if i not in self.features:
                     depth = torch.from_numpy(cam.render(self.candidates))      # (K, H, W)
                     self.features[i] = model.features(depth.to(episode.view.device))
-                e = self.features[i]
-                views = torch.as_tensor(self.candidates, dtype=torch.float32, device=e.device)
-                hidden = model.cell(model.cell_input(e, views),
-                                    episode.hidden[i:i + 1].expand(len(e), -1))
-                p = model.classify(hidden).softmax(-1)
+                p = lookahead_logits(model, self.features[i][None], episode.hidden[i:i + 1],
+                                     self.candidates)[0].softmax(-1)
                 h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1)
                 best.append(self.candidates[int(h.argmin())])
         return np.stack(best)

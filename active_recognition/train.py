@@ -29,6 +29,7 @@ from .datasets import default_cache_dir, open_dataset
 from .depth_layer import CameraConfig, DepthCamera
 from .episode import Episode, EpisodeConfig, run
 from .model import ModelConfig, RecurrentAttention
+from .policies import lookahead_logits, visited_mask
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
@@ -164,8 +165,7 @@ def revisit_penalty(views, within=math.radians(30)):
     """VERAM's penalty on looking again where one has looked: for every view (B, T, 2) and each
     earlier one, how far the cosine of the angle between them exceeds cos(`within`), averaged.
     Differentiable in the views, so it pushes FC_loc's increments apart."""
-    t, p = views.unbind(-1)
-    pos = torch.stack([t.sin() * p.cos(), t.sin() * p.sin(), t.cos()], -1)     # (B, T, 3)
+    pos = geometry.unit_position(views)                                         # (B, T, 3)
     cos = pos @ pos.transpose(1, 2)                                              # (B, T, T)
     earlier = torch.ones_like(cos[0]).tril(-1).bool()
     return torch.relu(cos[:, earlier] - math.cos(within)).sum(1).mean()
@@ -216,21 +216,16 @@ class ImitationLoss(nn.Module):
 
     def __init__(self, model, steps, weighting="uniform", mix=0.5):
         super().__init__()
-        from .policies import visited_mask
-        self.model, self.steps, self.mix, self.visited_mask = model, steps, mix, visited_mask
+        self.model, self.steps, self.mix = model, steps, mix
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
 
     def oracle_targets(self, cand_features, hidden, labels, visited):
         """(B,) index of the best unvisited candidate for each object, by true-class loss."""
-        model, k = self.model, len(self.candidates)
-        views = torch.as_tensor(self.candidates, dtype=torch.float32, device=hidden.device)
         with torch.no_grad():
-            b = len(hidden)
-            inputs = model.cell_input(cand_features.reshape(b * k, -1), views.repeat(b, 1))
-            h = model.cell(inputs, hidden.detach().repeat_interleave(k, 0))
-            loss = nn.functional.cross_entropy(model.classify(h), labels.repeat_interleave(k),
-                                               reduction="none").reshape(b, k)
+            logits = lookahead_logits(self.model, cand_features, hidden, self.candidates)
+            loss = nn.functional.cross_entropy(logits.transpose(1, 2), labels[:, None].expand(
+                -1, logits.shape[1]), reduction="none")                              # (B, K)
             loss[torch.as_tensor(visited, device=loss.device)] = float("inf")
             return loss.argmin(1)
 
@@ -248,7 +243,7 @@ class ImitationLoss(nn.Module):
 
     def next_view(self, episode, step):
         """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
-        visited = self.visited_mask(episode, self.candidates)
+        visited = visited_mask(episode, self.candidates)
         target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
         scores = self.model.score_views(episode.hidden)
         masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))

@@ -22,6 +22,7 @@ from active_recognition import geometry
 from active_recognition.datasets import NAMES, default_cache_dir, open_dataset
 from active_recognition.depth_layer import CameraConfig
 from active_recognition.evaluate import write_json
+from active_recognition.policies import nearest_candidates
 from active_recognition.shared_classifier import train_shared
 from active_recognition.train import Shapes
 from active_recognition.view_sets import (best_subset_accuracy, candidate_features, fixed_path,
@@ -59,11 +60,10 @@ def main():
         rand = torch.stack([net.view_features(torch.from_numpy(c.render(geometry.random_views(rng, 3)))[None])[0]
                             for c in test.cameras(idx)])
         acc3_random = accuracy(net.classify(rand.amax(1)), labels)
-        nine = torch.stack([net.view_features(torch.from_numpy(c.render(geometry.fibonacci_views(9)))[None])[0]
-                            for c in test.cameras(idx)])
+        nine = candidate_features(net, test, idx, geometry.fibonacci_views(9))
         acc9 = accuracy(net.classify(nine.amax(1)), labels)
         fixed, train_acc = fixed_path(net, train, seed=args.seed)
-        pair = [int(np.argmin(np.abs(candidates - v).sum(1))) for v in fixed]
+        pair = nearest_candidates(fixed, candidates).tolist()
         sets = np.array([[first] + pair for first in range(50)])
         acc3_fixed = accuracy(subset_logits(net, feats, sets), labels[:, None])
     acc3_best = best_subset_accuracy(net, feats, labels, 3)

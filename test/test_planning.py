@@ -257,6 +257,6 @@ def test_imitation_loss_trains_fc_view_and_not_fc_loc():
 def test_evaluation_defaults_to_the_embedded_datasets_own_shipped_model():
     from active_recognition.evaluate import EvalConfig, checkpoint_split
     for name in ("procedural", "twins"):
-        model, classes, shapes = checkpoint_split(None, EvalConfig(dataset=name))
+        model, classes, shapes, _ = checkpoint_split(None, EvalConfig(dataset=name))
         assert classes == list(shapes.ds.classes) and shapes.ds.name == name
     assert model.config.candidates == 50 and model.config.view_input  # twins.pt
