@@ -209,7 +209,7 @@ def cmd_demo(args):
                          "or source a ROS 2 install")
     from .nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
-             planner=args.planner, dataset=args.dataset)
+             planner=args.planner, dataset=args.dataset, camera=args.camera)
 
 
 def add_demo(sub):
@@ -223,6 +223,10 @@ def add_demo(sub):
                    help="model file (default: the dataset's shipped model)")
     p.add_argument("--planner", choices=NODE_PLANNERS, default="auto",
                    help="next-view planner (auto: the model's best, as measured)")
+    p.add_argument("--camera", choices=("virtual", "realsense"), default="virtual",
+                   help="simulated camera: the model's own (64x64, 120 degrees), or "
+                        "RealSense-like (640x480, fx = fy = 385, Kinect noise, 3 %% dropout, "
+                        "flying pixels removed, a floor, 2 degrees of pose error)")
     p.set_defaults(func=cmd_demo)
 
 

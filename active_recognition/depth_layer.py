@@ -55,10 +55,9 @@ class CameraConfig:
         """(near, far) z-depth mapped to 0 and 255: the cube's bounding sphere seen from R."""
         return max(self.radius - geometry.CUBE_RADIUS, 0.0), self.radius + geometry.CUBE_RADIUS
 
-    def intrinsics(self):
-        """(fx, fy, cx, cy) in pixels, for a CameraInfo."""
-        fx = self.width / (2 * math.tan(self.fov_rad / 2))
-        return fx, fx, (self.width - 1) / 2, (self.height - 1) / 2
+    def intrinsics(self) -> geometry.Intrinsics:
+        """This camera's K (square pixels, centred), for a CameraInfo or a reprojection."""
+        return geometry.Intrinsics.from_fov(self.width, self.height, self.fov_rad)
 
 
 def normalise_depth(z, config: CameraConfig):
@@ -90,7 +89,7 @@ class Hits:
 class DepthCamera:
     """A pinhole depth camera around one mesh normalised into [-0.5, 0.5]^3."""
 
-    def __init__(self, vertices, faces, config: CameraConfig = CameraConfig()):
+    def __init__(self, vertices, faces, config: CameraConfig = CameraConfig(), intrinsics=None):
         vertices = np.asarray(vertices, dtype=np.float32)
         faces = np.asarray(faces, dtype=np.int32)
         if vertices.ndim != 2 or vertices.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
@@ -101,7 +100,14 @@ class DepthCamera:
         self.config = config
         self.scene = rtcore_scene.EmbreeScene(_DEVICE)
         TriangleMesh(self.scene, vertices, faces)
-        x, y = geometry.pixel_grid(config.height, config.width, config.fov_rad, config.focal)
+        if intrinsics is None:
+            x, y = geometry.pixel_grid(config.height, config.width, config.fov_rad, config.focal)
+        else:  # any K (a real camera's, for the simulated one); the image size is the config's
+            if (intrinsics.height, intrinsics.width) != (config.height, config.width):
+                raise ValueError(f"intrinsics are for {intrinsics.width}x{intrinsics.height}, the "
+                                 f"camera renders {config.width}x{config.height}")
+            optical = intrinsics.rays() * config.focal
+            x, y = -optical[..., 1], optical[..., 0]
         # ray directions in the t = 0 frame: forward -Z, up +X, right -Y
         local = np.stack([x, -y, np.full_like(x, -config.focal)], -1).reshape(-1, 3)
         self.cos = config.focal / np.linalg.norm(local, axis=1)  # f / sqrt(x^2 + y^2 + f^2)
@@ -243,31 +249,3 @@ def render_views(views: torch.Tensor, cameras, rule="paper", reduction="mean") -
     if views.ndim != 2 or views.shape[1] != 2:
         raise ValueError(f"views must be (B, 2) (theta, phi), got {tuple(views.shape)}")
     return _RenderViews.apply(views, list(cameras), rule, reduction)
-
-
-def resample(depth, height, width):
-    """Nearest-neighbour resample of a depth image (same field of view) to height x width.
-
-    Nearest, not linear: averaging across an object's edge would invent surfaces in mid-air.
-    """
-    depth = np.asarray(depth)
-    rows = ((np.arange(height) + 0.5) * depth.shape[0] / height).astype(int)
-    cols = ((np.arange(width) + 0.5) * depth.shape[1] / width).astype(int)
-    return depth[rows[:, None], cols[None, :]]
-
-
-def render_pose(camera: DepthCamera, position, optical_rotation):
-    """Metric depth (H, W) float32, NaN = miss, from any camera pose (optical frame, REP 103)."""
-    rot = geometry.rotation_from_optical(optical_rotation)
-    return camera.metric_hits(camera.trace_poses(np.asarray(position)[None], rot[None]))[0]
-
-
-def sensor_noise(metres, rng, std=0.0, dropout=0.0):
-    """Gaussian depth noise (std in metres, growing with depth squared like a stereo sensor)
-    and random dropout of returns (NaN), to mimic a real depth camera."""
-    out = np.array(metres, dtype=np.float32, copy=True)
-    if std > 0:
-        out += (std * out ** 2 * rng.standard_normal(out.shape)).astype(np.float32)
-    if dropout > 0:
-        out[rng.random(out.shape) < dropout] = np.nan
-    return out

@@ -65,8 +65,16 @@ class Episode:
     def steps(self):
         return len(self.probs)
 
-    def step(self, depth) -> Step:
-        """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255]."""
+    def step(self, depth, view=None) -> Step:
+        """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255].
+
+        view (B, 2): where the images were really taken, when that is not where the episode
+        asked to look (a robot's arm); the episode goes on from there.
+        """
+        if view is not None:
+            self.view = torch.as_tensor(view, dtype=torch.float32,
+                                        device=self.view.device).reshape(self.view.shape)
+            self.views[-1] = self.view
         depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
         depth = depth.reshape(len(self.view), *depth.shape[-2:])
         logits, delta, self.hidden = self.model(depth, self.hidden, self.view)

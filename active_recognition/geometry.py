@@ -10,6 +10,7 @@ Conventions (METHOD.md, the paper's equations):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -152,6 +153,48 @@ def pixel_grid(height, width, fov, focal=1.0):
     u0, v0 = (height - 1) / 2, (width - 1) / 2
     rows, cols = np.meshgrid(np.arange(height), np.arange(width), indexing="ij")
     return (u0 - rows) * d, (cols - v0) * d
+
+
+@dataclass(frozen=True)
+class Intrinsics:
+    """A rectified pinhole camera: image size and the K of its CameraInfo, in pixels."""
+    width: int
+    height: int
+    fx: float
+    fy: float
+    cx: float
+    cy: float
+
+    def __post_init__(self):
+        if not (1 <= self.width <= 4096 and 1 <= self.height <= 4096):
+            raise ValueError(f"camera size {self.width}x{self.height} must be 1..4096 pixels a side")
+        for name in ("fx", "fy", "cx", "cy"):
+            value = getattr(self, name)
+            if not math.isfinite(value) or (name in ("fx", "fy") and value <= 0):
+                raise ValueError(f"camera {name} must be a finite{' positive' * (name < 'c')} "
+                                 f"number of pixels, got {value}")
+
+    @classmethod
+    def from_fov(cls, width, height, fov):
+        """Square pixels, principal point at the centre, horizontal field of view `fov` (radians)."""
+        if not 0 < fov < math.pi:
+            raise ValueError(f"field of view must lie in (0, 180) degrees, got {math.degrees(fov)}")
+        f = width / (2 * math.tan(fov / 2))
+        return cls(int(width), int(height), f, f, (width - 1) / 2, (height - 1) / 2)
+
+    def half_fov(self):
+        """Half-angle (radians) of the narrower field of view, measured to the nearest image edge."""
+        x = min(self.cx + 0.5, self.width - 0.5 - self.cx) / self.fx
+        y = min(self.cy + 0.5, self.height - 0.5 - self.cy) / self.fy
+        if min(x, y) <= 0:
+            raise ValueError("the principal point lies outside the image")
+        return math.atan(min(x, y))
+
+    def rays(self):
+        """(H, W, 3) optical-frame directions (x right, y down, z forward) with z = 1."""
+        rows, cols = np.meshgrid(np.arange(self.height), np.arange(self.width), indexing="ij")
+        return np.stack([(cols - self.cx) / self.fx, (rows - self.cy) / self.fy,
+                         np.ones(rows.shape)], -1)
 
 
 def random_views(rng, n):

@@ -1,21 +1,25 @@
 """A single-object recognizer for a robot: metric depth in, probabilities and next view out.
 
-Wraps one Episode (B = 1) with the conversions a camera needs: REP 118 metric depth -> the
-network's normalised depth (resampled when the resolution differs at the same field of view).
+Wraps one Episode (B = 1) with what a real camera needs: every image, with its K and the pose it
+was taken from, is reprojected into the model's virtual camera (reprojection.py), and the
+episode goes on from the view actually taken. An image that shows too little of the object is
+not classified; after `max_empty_views` of them in a row the episode ends with "no_object".
 The next view comes from a planner (policies.py); "auto" is the one the checkpoint names as its
 best (`default_planner`, measured by benchmarks/planners.py), else FC_view when the model has
 one, else its own FC_loc. The ROS node is a thin shell around this class.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 import torch
 
 from . import checkpoint, geometry
-from .depth_layer import CameraConfig, normalise_depth, resample
+from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig
+from .reprojection import auto_standoff, reproject
 from .policies import PLANNERS, make_planner
 
 NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
@@ -32,20 +36,54 @@ def choose_planner(name, model, ckpt):
 
 
 @dataclass
+class SensingConfig:
+    object_size: float = 1.0          # metres: the longest edge of the object's bounding box
+    standoff: float = 0.0             # metres from the object's centre to the camera; 0 = auto
+    min_object_fraction: float = 0.003  # fewer object pixels (share of the model's image): empty
+    max_empty_views: int = 3          # this many empty images in a row end the episode
+    box_margin: float = 0.1           # keep points this far (x object_size) outside the box
+
+    def __post_init__(self):
+        checks = {"object_size": self.object_size > 0, "standoff": self.standoff >= 0,
+                  "min_object_fraction": 0 <= self.min_object_fraction < 1,
+                  "max_empty_views": self.max_empty_views >= 1,
+                  "box_margin": 0 <= self.box_margin <= 1}
+        for name, ok in checks.items():
+            value = getattr(self, name)
+            if not ok or not math.isfinite(value):
+                raise ValueError(f"{name} = {value!r} is out of range (see SensingConfig)")
+
+
+STATUSES = ("classified", "recognized", "empty", "no_object")
+
+
+@dataclass
 class Observation:
-    probs: np.ndarray        # (C,)
+    status: str              # classified (go on), recognized (stopped), empty, no_object (ended)
+    probs: np.ndarray | None  # (C,); None when the image was not classified
     label: str
-    entropy: float
-    next_view: tuple         # (theta, phi)
+    entropy: float | None
+    next_view: tuple         # (theta, phi): the view to take next (the same one after "empty")
     done: bool
-    views: int               # views used so far
+    views: int               # views classified so far
+    view: tuple              # (theta, phi) the image was actually taken from
+    object_fraction: float
+
+    def result(self):
+        """The JSON-able result of an episode that has ended (recognition/result)."""
+        found = self.status == "recognized"
+        return {"status": self.status, "label": self.label if found else "",
+                "probability": float(self.probs.max()) if found else 0.0,
+                "entropy": self.entropy if found else None, "views": self.views}
 
 
 class ActiveRecognizer:
-    def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto"):
+    def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto",
+                 sensing=SensingConfig()):
         self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path or None)
         size = self.model.config.image_size
         self.camera = CameraConfig(size, size, radius=self.model.config.radius)
+        self.sensing = sensing
         self.planner = choose_planner(planner, self.model, ckpt)
         self.episode = Episode(self.model, episode, make_planner(
             self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")))
@@ -57,12 +95,30 @@ class ActiveRecognizer:
     def radius(self):
         return self.camera.radius
 
-    def reset(self, view=None):
-        """Start a new object at `view` (default: a random one of the 50 initial views)."""
+    def reset(self, view=None, sensing=None):
+        """Start a new object at `view` (default: a random one of the 50 initial views), with
+        new sensing settings if given (they apply from here on)."""
+        if sensing is not None:
+            self.sensing = sensing
         if view is None:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
         self.episode.reset(torch.tensor(view, dtype=torch.float32))
+        self.empty_views, self.no_object = 0, False
         return tuple(float(v) for v in self.episode.view[0])
+
+    def standoff(self, k: geometry.Intrinsics | None = None):
+        """Camera distance (metres) for the next view: the `standoff` setting, else where the
+        object fills camera `k` (auto_standoff), else the model's radius x object_size."""
+        if self.sensing.standoff > 0:
+            return self.sensing.standoff
+        if k is not None:
+            return auto_standoff(k, self.sensing.object_size)
+        return self.radius * self.sensing.object_size
+
+    def requested_pose(self, k=None):
+        """(position (3,) metres, optical rotation (3, 3)) of the view asked for next."""
+        return (geometry.camera_position(*self.view, self.standoff(k)),
+                geometry.optical_rotation(*self.view))
 
     @property
     def view(self):
@@ -70,24 +126,46 @@ class ActiveRecognizer:
 
     @property
     def done(self):
-        return bool(self.episode.done[0])
+        return self.no_object or bool(self.episode.done[0])
 
-    def network_input(self, metres):
-        """(H, W) metres, NaN = no return -> (size, size) normalised depth in [0, 255]."""
+    def network_input(self, metres, k=None, position=None, rotation=None):
+        """A metric depth image (H, W), NaN = no return, with its camera K and pose in the object
+        frame -> the Reprojection into the model's camera. Without K: the model's own camera at
+        this resolution; without a pose: the view asked for."""
         metres = np.asarray(metres, dtype=np.float32)
-        if metres.shape != (self.camera.height, self.camera.width):
-            metres = resample(metres, self.camera.height, self.camera.width)
-        return normalise_depth(metres, self.camera)
+        if metres.ndim != 2:
+            raise ValueError(f"depth must be an (H, W) image, got shape {metres.shape}")
+        if k is None:
+            k = geometry.Intrinsics.from_fov(metres.shape[1], metres.shape[0], self.camera.fov_rad)
+            standoff = self.standoff()
+        else:
+            standoff = self.standoff(k)
+        if position is None:
+            position = geometry.camera_position(*self.view, standoff)
+            rotation = geometry.optical_rotation(*self.view)
+        return reproject(metres, k, position, rotation, self.camera, self.sensing.object_size,
+                         self.sensing.box_margin)
 
-    def observe(self, metres) -> Observation:
-        """One episode step on a metric depth image taken from the current view."""
+    def observe(self, metres, k=None, position=None, rotation=None) -> Observation:
+        """One episode step on a metric depth image (see network_input for the arguments)."""
         if self.done:
-            raise RuntimeError("the episode has stopped; reset() for a new object")
+            raise RuntimeError("the episode has ended; reset() for a new object")
+        seen = self.network_input(metres, k, position, rotation)
+        if seen.object_fraction < self.sensing.min_object_fraction:
+            self.empty_views += 1
+            self.no_object = self.empty_views >= self.sensing.max_empty_views
+            status = "no_object" if self.no_object else "empty"
+            return Observation(status, None, "", None, self.view, self.no_object,
+                               self.episode.steps, seen.view, seen.object_fraction)
+        self.empty_views = 0
         with torch.no_grad():
-            step = self.episode.step(torch.from_numpy(self.network_input(metres))[None])
+            view = torch.tensor([seen.view], dtype=torch.float32)
+            step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
-        return Observation(probs, self.classes[int(probs.argmax())], float(step.entropy[0]),
-                           self.view, bool(step.done[0]), self.episode.steps)
+        done = bool(step.done[0])
+        return Observation("recognized" if done else "classified", probs,
+                           self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
+                           done, self.episode.steps, seen.view, seen.object_fraction)
 
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])

@@ -1,13 +1,24 @@
-"""The simulated depth camera's core: a mesh source and a render at any pose (no ROS here)."""
+"""The simulated depth camera's core: a mesh in metres, rendered the way a real camera sees it.
+
+`SensorConfig` says what kind of camera: its K (any size, `fov` or fx/fy/cx/cy), Kinect-style
+depth noise, random and edge dropout, a working range, millimetre quantisation (16UC1), a floor
+under the object, an arm that misses the requested pose, and the object's size in metres.
+`PRESETS` holds the model's own virtual camera and a RealSense-like one. No ROS here.
+"""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from . import geometry
 from .datasets import default_cache_dir, open_dataset
-from .depth_layer import CameraConfig, DepthCamera, render_pose, sensor_noise
+from .depth_layer import CameraConfig, DepthCamera
 from .meshes import load_mesh
+
+NOISE = ("none", "kinect")
+ENCODINGS = ("32FC1", "16UC1")
 
 
 def load_object(mesh="", dataset="procedural", split="test", index=0, root=""):
@@ -20,25 +31,136 @@ def load_object(mesh="", dataset="procedural", split="test", index=0, root=""):
     return (*ds.mesh(index), f"{dataset}/{split}[{index}] ({ds.classes[ds.items[index][1]]})")
 
 
+def kinect_sigma(z):
+    """Depth noise of a structured-light sensor (Nguyen et al. 2012), metres at z-depth z."""
+    return 0.0012 + 0.0019 * (z - 0.4) ** 2
+
+
+@dataclass(frozen=True)
+class SensorConfig:
+    width: int = 64
+    height: int = 64
+    fov: float = 120.0          # horizontal field of view, degrees (used unless fx > 0)
+    fx: float = 0.0             # K in pixels; 0 = from fov, square pixels, centred
+    fy: float = 0.0
+    cx: float = 0.0
+    cy: float = 0.0
+    noise: str = "none"         # none | kinect
+    noise_scale: float = 1.0    # multiplies the noise's sigma
+    dropout: float = 0.0        # fraction of pixels with no return, at random
+    edge_dropout: float = 0.0   # degrees: drop pixels beside a depth jump steeper than a surface
+                                # seen this far from face-on (flying pixels); 0 = off
+    min_range: float = 0.0      # metres; no return nearer
+    max_range: float = 0.0      # metres; no return farther; 0 = unlimited
+    encoding: str = "32FC1"     # 16UC1 = whole millimetres
+    floor: bool = False         # a plane under the object, seen from above
+    pose_error_deg: float = 0.0  # the arm misses each requested pose by this orbit angle
+    object_size: float = 1.0    # metres: the mesh's longest bounding-box edge
+
+    def __post_init__(self):
+        checks = {"fov": 0 < self.fov < 180, "noise": self.noise in NOISE,
+                  "noise_scale": self.noise_scale >= 0, "dropout": 0 <= self.dropout < 1,
+                  "edge_dropout": 0 <= self.edge_dropout < 90, "min_range": self.min_range >= 0,
+                  "max_range": self.max_range == 0 or self.max_range > self.min_range,
+                  "encoding": self.encoding in ENCODINGS,
+                  "pose_error_deg": 0 <= self.pose_error_deg < 90,
+                  "object_size": self.object_size > 0 and math.isfinite(self.object_size)}
+        for name, ok in checks.items():
+            if not ok:
+                raise ValueError(f"camera {name} = {getattr(self, name)!r} is out of range "
+                                 f"(see SensorConfig in simulated_camera.py)")
+        self.intrinsics()  # validates the size and K
+
+    def intrinsics(self) -> geometry.Intrinsics:
+        if self.fx <= 0:
+            return geometry.Intrinsics.from_fov(self.width, self.height, math.radians(self.fov))
+        return geometry.Intrinsics(self.width, self.height, self.fx, self.fy or self.fx,
+                                   self.cx or (self.width - 1) / 2, self.cy or (self.height - 1) / 2)
+
+
+PRESETS = {
+    "virtual": SensorConfig(),
+    "realsense": SensorConfig(width=640, height=480, fx=385.0, fy=385.0, noise="kinect",
+                              dropout=0.03, edge_dropout=75.0, min_range=0.2, max_range=10.0,
+                              encoding="16UC1", floor=True, pose_error_deg=2.0),
+}
+
+
+def orbit(position, rotation, angle, rng):
+    """Turn a camera pose about the object's centre by `angle` (radians) about a random axis
+    perpendicular to its position: where an arm ends up when it misses the pose."""
+    position = np.asarray(position, dtype=np.float64)
+    if angle == 0:
+        return position, np.asarray(rotation, dtype=np.float64)
+    u = position / np.linalg.norm(position)
+    axis = np.cross(u, rng.standard_normal(3))
+    axis /= np.linalg.norm(axis)
+    kx = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    turn = np.eye(3) + math.sin(angle) * kx + (1 - math.cos(angle)) * kx @ kx  # Rodrigues
+    return turn @ position, turn @ rotation
+
+
+def edge_dropout(z, degrees, focal):
+    """NaN beside a depth jump (to a 4-neighbour) steeper than a surface seen `degrees` from
+    face-on by a camera of `focal` pixels: where drivers remove flying pixels."""
+    threshold = math.tan(math.radians(degrees)) / focal
+    pad = np.pad(z, 1, constant_values=np.nan)
+    h, w = z.shape
+    jump = np.zeros(z.shape, bool)
+    for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+        with np.errstate(invalid="ignore"):
+            jump |= np.abs(pad[1 + dr:1 + dr + h, 1 + dc:1 + dc + w] - z) > threshold * z
+    return np.where(jump, np.nan, z)
+
+
 class SimulatedCamera:
-    def __init__(self, config: CameraConfig, noise_std=0.0, dropout=0.0, seed=0):
-        if noise_std < 0 or not 0 <= dropout < 1:
-            raise ValueError("noise_std must be >= 0 and dropout in [0, 1)")
-        self.config, self.noise_std, self.dropout = config, noise_std, dropout
+    def __init__(self, sensor: SensorConfig = SensorConfig(), seed=0, offset=(0.0, 0.0, 0.0)):
+        """offset (metres): where the object's centre really is in the frame the poses use
+        (a detector's error); the recognizer is not told."""
+        self.sensor, self.offset = sensor, np.asarray(offset, dtype=np.float64)
+        self.k = sensor.intrinsics()
         self.rng = np.random.default_rng(seed)
-        self.camera, self.description = None, None
+        self.camera, self.description, self.floor_z = None, None, None
 
     def load(self, **source):
         """Switch to another object; on failure the previous one stays (the error propagates)."""
         verts, faces, description = load_object(**source)
-        self.camera, self.description = DepthCamera(verts, faces, self.config), description
+        verts = np.asarray(verts, np.float64) * self.sensor.object_size + self.offset
+        config = CameraConfig(self.k.height, self.k.width)
+        self.camera = DepthCamera(verts, faces, config, intrinsics=self.k)
+        self.description, self.floor_z = description, float(verts[:, 2].min())
 
-    def render(self, position, optical_rotation):
-        """Metric depth (H, W), NaN = no return, with the configured sensor noise."""
-        depth = render_pose(self.camera, position, optical_rotation)
-        return sensor_noise(depth, self.rng, self.noise_std, self.dropout)
+    def capture(self, position, optical_rotation):
+        """Depth at a requested pose -> (metres (H, W) NaN = no return, actual position,
+        actual optical rotation): the arm's error applied, then the sensor's."""
+        s = self.sensor
+        position, rotation = orbit(position, optical_rotation, math.radians(s.pose_error_deg),
+                                   self.rng)
+        hits = self.camera.trace_poses(position[None], geometry.rotation_from_optical(rotation)[None])
+        z = self.camera.zdepth(hits)[0].astype(np.float64)
+        if s.floor and position[2] > self.floor_z:  # one-sided: views from below see through it
+            rays = self.k.rays()
+            down = (rays @ rotation.T)[..., 2]  # world z per unit of optical depth
+            with np.errstate(divide="ignore", invalid="ignore"):
+                floor = np.where(down < 0, (self.floor_z - position[2]) / down, np.inf)
+            z = np.minimum(z, floor)
+        if s.noise == "kinect":
+            noise = s.noise_scale * self.rng.standard_normal(z.shape)
+            seen = np.isfinite(z)
+            z[seen] += kinect_sigma(z[seen]) * noise[seen]
+        z[~np.isfinite(z) | (z < s.min_range) | ((z > s.max_range) if s.max_range else False)] = np.nan
+        if s.edge_dropout:
+            z = edge_dropout(z, s.edge_dropout, min(self.k.fx, self.k.fy))
+        if s.dropout:
+            z[self.rng.random(z.shape) < s.dropout] = np.nan
+        if s.encoding == "16UC1":
+            z = np.round(z * 1000.0) / 1000.0
+            z[z == 0] = np.nan
+        return z.astype(np.float32), position, rotation
 
 
-def camera_config(width, height, fov_deg, radius):
-    return CameraConfig(height=height, width=width, radius=radius,
-                        fov=math.radians(fov_deg) if fov_deg > 0 else None)
+def sensor_config(preset="virtual", **changes):
+    """A preset ("virtual" or "realsense") with some fields changed."""
+    if preset not in PRESETS:
+        raise ValueError(f"camera must be one of {tuple(PRESETS)}, got {preset!r}")
+    return replace(PRESETS[preset], **changes)

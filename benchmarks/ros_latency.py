@@ -53,7 +53,7 @@ def stream(seconds, hz):
             ex.add_node(n)
         assert spin_until(ex, lambda: pub.get_subscription_count() > 0, 10)
         cam = SimulatedCameraNode(context=ctx)  # only to render a realistic image
-        depth = cam.sim.render(*ma.pose_to_camera(ma.view_to_pose(1.0, 0.5)))
+        depth = cam.sim.capture(*ma.pose_to_camera(ma.view_to_pose(1.0, 0.5)))[0]
         cam.destroy_node()
         published, rss, start = 0, [], time.monotonic()
 

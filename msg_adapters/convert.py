@@ -78,14 +78,14 @@ def metres_to_image(depth, stamp=None, frame_id="", encoding="32FC1") -> Image:
     return msg
 
 
-def camera_info(config, stamp=None, frame_id="") -> CameraInfo:
-    """CameraInfo of a depth_layer.CameraConfig: pinhole, no distortion."""
-    fx, fy, cx, cy = config.intrinsics()
+def camera_info(k: geometry.Intrinsics, stamp=None, frame_id="") -> CameraInfo:
+    """CameraInfo of a rectified pinhole camera (geometry.Intrinsics): no distortion."""
+    fx, fy, cx, cy = k.fx, k.fy, k.cx, k.cy
     msg = CameraInfo()
     if stamp is not None:
         msg.header.stamp = stamp
     msg.header.frame_id = frame_id
-    msg.height, msg.width = config.height, config.width
+    msg.height, msg.width = k.height, k.width
     msg.distortion_model = "plumb_bob"
     msg.d = [0.0] * 5
     msg.k = [fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0]
@@ -94,16 +94,42 @@ def camera_info(config, stamp=None, frame_id="") -> CameraInfo:
     return msg
 
 
+def camera_info_to_intrinsics(msg: CameraInfo) -> geometry.Intrinsics:
+    """CameraInfo -> geometry.Intrinsics (its K; the image is taken as rectified).
+
+    Raises AdapterError on an uncalibrated (all-zero) or malformed K, or a zero image size.
+    """
+    k = np.asarray(msg.k, dtype=np.float64)
+    if k.shape != (9,) or not np.all(np.isfinite(k)):
+        raise AdapterError("camera_info K must hold 9 finite numbers")
+    if not k.any():
+        raise AdapterError("camera_info K is all zeros: the camera is uncalibrated")
+    try:
+        return geometry.Intrinsics(int(msg.width), int(msg.height), k[0], k[4], k[2], k[5])
+    except ValueError as e:
+        raise AdapterError(f"camera_info: {e}") from None
+
+
+def stamp_seconds(stamp) -> float:
+    """builtin_interfaces/Time -> seconds."""
+    return stamp.sec + stamp.nanosec * 1e-9
+
+
 def view_to_pose(theta, phi, radius=1.0, frame_id="object", stamp=None) -> PoseStamped:
     """A view on the sphere -> the camera's optical-frame pose in the object frame."""
-    pos, q = geometry.camera_pose(float(theta), float(phi), radius)
+    return position_to_pose(geometry.camera_position(float(theta), float(phi), radius),
+                            geometry.optical_rotation(float(theta), float(phi)), frame_id, stamp)
+
+
+def position_to_pose(position, optical_rotation, frame_id="object", stamp=None) -> PoseStamped:
+    """A camera position (3,) and optical rotation (3, 3) -> PoseStamped."""
     msg = PoseStamped()
     msg.header.frame_id = frame_id
     if stamp is not None:
         msg.header.stamp = stamp
     p, o = msg.pose.position, msg.pose.orientation
-    p.x, p.y, p.z = (float(v) for v in pos)
-    o.x, o.y, o.z, o.w = (float(v) for v in q)
+    p.x, p.y, p.z = (float(v) for v in position)
+    o.x, o.y, o.z, o.w = (float(v) for v in geometry.matrix_to_quaternion(optical_rotation))
     return msg
 
 

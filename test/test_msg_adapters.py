@@ -97,12 +97,26 @@ def test_pose_not_looking_at_the_object_is_refused():
     ma.pose_to_camera(msg)  # still a valid camera pose for the simulated camera
 
 
-def test_camera_info_matches_the_field_of_view():
-    cfg = CameraConfig(48, 64, fov=math.radians(90))
-    info = ma.camera_info(cfg, frame_id="cam")
+def test_camera_info_matches_the_field_of_view_and_round_trips():
+    k = CameraConfig(48, 64, fov=math.radians(90)).intrinsics()
+    info = ma.camera_info(k, frame_id="cam")
     fx = info.k[0]
     assert math.isclose(2 * math.atan(64 / (2 * fx)), math.radians(90))
     assert info.k[2] == 31.5 and info.k[5] == 23.5 and info.header.frame_id == "cam"
+    assert ma.camera_info_to_intrinsics(info) == k
+    odd = geometry.Intrinsics(640, 480, 385.0, 390.0, 318.2, 241.7)
+    assert ma.camera_info_to_intrinsics(ma.camera_info(odd)) == odd
+
+
+@pytest.mark.parametrize("change, reason", [
+    (dict(k=[0.0] * 9), "uncalibrated"), (dict(k=[float("nan")] + [1.0] * 8), "finite"),
+    (dict(width=0), "size"), (dict(k=[-5.0, 0, 32, 0, 5, 24, 0, 0, 1]), "fx")])
+def test_malformed_camera_info_raises_one_error(change, reason):
+    info = ma.camera_info(CameraConfig(48, 64).intrinsics())
+    for key, value in change.items():
+        setattr(info, key, value)
+    with pytest.raises(ma.AdapterError, match=reason):
+        ma.camera_info_to_intrinsics(info)
 
 
 def test_probabilities_round_trip_and_markers():

@@ -3,6 +3,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -11,16 +12,18 @@ rclpy = pytest.importorskip("rclpy")
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
 from sensor_msgs.msg import Image  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
+from active_recognition import geometry  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
-from active_recognition.simulated_camera import SimulatedCamera, camera_config  # noqa: E402
+from active_recognition.simulated_camera import SimulatedCamera  # noqa: E402
 
 
 @pytest.fixture
@@ -36,16 +39,19 @@ def loop():
 
 
 def direct(index, seed):
-    """The same episode without ROS: same initial-view draws, renders from the same poses."""
+    """The same episode without ROS: same initial-view draws, renders from the same poses (the
+    very first request goes out before any CameraInfo, so at the model's radius)."""
     core = ActiveRecognizer(seed=seed)
-    sim = SimulatedCamera(camera_config(64, 64, 0.0, 1.0))
+    sim = SimulatedCamera()
     sim.load(dataset="procedural", split="test", index=index)
-    results = []
+    results, k = [], None
     for _ in range(2):
         core.reset()
         while not core.done:
-            pos, rot = ma.pose_to_camera(ma.view_to_pose(*core.view, core.radius))
-            obs = core.observe(sim.render(pos, rot))
+            pos, rot = ma.pose_to_camera(ma.position_to_pose(*core.requested_pose(k)))
+            metres, pos, rot = sim.capture(pos, rot)
+            k = sim.k
+            obs = core.observe(metres, k, pos, rot)
         results.append((obs.label, obs.views, float(obs.probs.max())))
     return results
 
@@ -83,7 +89,7 @@ def test_malformed_images_are_rejected_and_the_node_keeps_answering(loop):
         spin_until(executor, lambda: False, 0.05)
     assert spin_until(executor, lambda: recognizer.rejected == len(bads), 5)
     assert recognizer.core.episode.steps == 0
-    pub.publish(good)  # a different resolution with the same field of view is resampled too
+    pub.publish(good)  # another resolution (no CameraInfo: the model's field of view) works too
     assert spin_until(executor, lambda: recognizer.core.episode.steps == 1, 5)
     assert recognize(executor, client) is not None  # and a whole episode still works
 
@@ -152,3 +158,80 @@ def test_demo_on_twins_uses_the_shipped_twins_model_and_its_best_planner():
     assert lines[-1].startswith("planner imitation: accuracy")
     with pytest.raises(ValueError, match="objects must be 1..600"):
         run_demo(objects=0, dataset="twins")
+
+
+def test_a_realsense_camera_at_a_size_the_model_never_saw_closes_the_loop():
+    from active_recognition.nodes.demo import run_demo
+    summary = run_demo(objects=2, seed=3, camera="realsense", out=lambda line: None)
+    assert summary["camera"] == "640x480" and summary["answered"] == 2
+
+
+class FakeCamera(Node):
+    """Answers each next_view with `image(pose)` and, `pose_delay` seconds later, a pose."""
+
+    def __init__(self, ctx, image, pose=None, pose_delay=0.0, offset=0.0):
+        super().__init__("fake_camera", context=ctx)
+        self.image, self.pose, self.pose_delay, self.offset = image, pose, pose_delay, offset
+        self.pub_image = self.create_publisher(Image, "depth/image", qos_profile_sensor_data)
+        self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos_profile_sensor_data)
+        self.create_subscription(PoseStamped, "next_view", self.on_view, 10)
+        self.sent, self.queue = 0, []
+        self.create_timer(0.005, self.on_timer)
+
+    def on_view(self, msg):
+        self.sent += 1
+        self.pub_image.publish(ma.metres_to_image(self.image(msg), msg.header.stamp))
+        if self.pose is not None:
+            self.queue.append((time.monotonic() + self.pose_delay, msg))
+
+    def on_timer(self):
+        while self.queue and self.queue[0][0] <= time.monotonic():
+            _, request = self.queue.pop(0)
+            pose = self.pose(request)
+            t = request.header.stamp.sec + request.header.stamp.nanosec * 1e-9 + self.offset
+            pose.header.stamp.sec, pose.header.stamp.nanosec = int(t), int(round(t % 1 * 1e9))
+            self.pub_pose.publish(pose)
+
+
+def test_an_empty_scene_ends_with_no_object_after_max_empty_views():
+    with ros_session() as (ctx, executor):
+        recognizer = Recognizer(context=ctx, parameter_overrides=[Parameter("max_empty_views", value=3)])
+        camera = FakeCamera(ctx, lambda pose: np.full((48, 64), np.nan, np.float32))
+        client = DemoClient(context=ctx)
+        for n in (recognizer, camera, client):
+            executor.add_node(n)
+        assert spin_until(executor, client.reset.service_is_ready, 10)
+        result = recognize(executor, client)
+        assert result == {"status": "no_object", "label": "", "probability": 0.0,
+                          "entropy": None, "views": 0}
+        assert recognizer.empty == 2 and camera.sent == 3  # asked again twice, then gave up
+
+
+def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
+    sim = SimulatedCamera()
+    sim.load(dataset="procedural", split="test", index=5)
+    turn = np.radians(25.0)  # the arm really went 25 degrees further round than asked
+
+    def where(request):
+        pos, rot = ma.pose_to_camera(request)
+        c, s = np.cos(turn), np.sin(turn)
+        rz = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+        return rz @ pos, rz @ rot
+
+    with ros_session() as (ctx, executor):
+        recognizer = Recognizer(context=ctx, parameter_overrides=[
+            Parameter("pose_tolerance", value=0.2), Parameter("max_views", value=2)])
+        camera = FakeCamera(ctx, lambda req: sim.capture(*where(req))[0],
+                            pose=lambda req: ma.position_to_pose(*where(req)),
+                            pose_delay=0.05, offset=0.03)  # stamped 30 ms off, sent 50 ms late
+        client = DemoClient(context=ctx)
+        for n in (recognizer, camera, client):
+            executor.add_node(n)
+        assert spin_until(executor, client.reset.service_is_ready, 10)
+        recognizer.core.rng = np.random.default_rng(0)
+        assert recognize(executor, client)["status"] == "recognized"
+        asked = recognizer.core.initial_views[np.random.default_rng(0).integers(50)]
+        taken = recognizer.core.views_taken()[0]
+        expected = geometry.view_from_position(where(ma.view_to_pose(*asked))[0])[1:]
+        np.testing.assert_allclose(taken, expected, atol=1e-5)
+        assert abs(taken[1] - asked[1]) > 0.3  # and not the view it asked for

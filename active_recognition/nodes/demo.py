@@ -3,6 +3,7 @@ import json
 import threading
 import time
 from contextlib import contextmanager
+from dataclasses import asdict
 
 import numpy as np
 import rclpy
@@ -16,6 +17,7 @@ from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
+from active_recognition.simulated_camera import sensor_config
 
 
 class MultiThreadedExecutor(executors.MultiThreadedExecutor):
@@ -88,16 +90,19 @@ def recognize(executor, client, timeout=10.0):
 
 
 def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="auto",
-             dataset="procedural"):
+             dataset="procedural", camera="virtual"):
     """Recognise `objects` test objects of an embedded dataset in turn (with that dataset's
-    shipped model unless `checkpoint` names one); returns the summary dict."""
+    shipped model unless `checkpoint` names one) through a simulated `camera` ("virtual" or
+    "realsense", simulated_camera.PRESETS); returns the summary dict."""
     test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
     if not 1 <= objects <= len(test):
         raise ValueError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")
+    sensor = [Parameter(k, value=v) for k, v in asdict(sensor_config(camera)).items()]
     order = np.random.default_rng(seed).permutation(len(test))[:objects]
     with ros_session(args) as (ctx, executor):
-        camera = SimulatedCameraNode(context=ctx, parameter_overrides=[
-            Parameter("dataset", value=dataset), Parameter("index", value=int(order[0]))])
+        camera = SimulatedCameraNode(context=ctx, parameter_overrides=sensor + [
+            Parameter("dataset", value=dataset), Parameter("index", value=int(order[0])),
+            Parameter("seed", value=seed)])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
             Parameter("checkpoint", value=checkpoint or str(shipped(dataset))),
             Parameter("seed", value=seed), Parameter("planner", value=planner)])
@@ -113,8 +118,9 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             start = time.perf_counter()
             result = recognize(executor, client)
             ms = (time.perf_counter() - start) * 1e3
-            if result is None:
-                out(f"object {n + 1}/{len(order)}: true={truth:<12} no result (timed out)")
+            if result is None or result["status"] != "recognized":
+                why = "no result (timed out)" if result is None else "no object seen"
+                out(f"object {n + 1}/{len(order)}: true={truth:<12} {why}")
                 rows.append((False, 0, ms))
                 continue
             ok = result["label"] == truth
@@ -123,6 +129,7 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                 f"p={result['probability']:.2f} views={result['views']:<2} time={ms:.0f} ms "
                 f"{'ok' if ok else 'WRONG'}")
         summary = {"objects": len(rows), "planner": recognizer.core.planner,
+                   "camera": f"{camera.sim.sensor.width}x{camera.sim.sensor.height}",
                    "answered": sum(r[1] > 0 for r in rows),
                    "accuracy": float(np.mean([r[0] for r in rows])),
                    "mean_views": float(np.mean([r[1] for r in rows])),

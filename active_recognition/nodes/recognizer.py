@@ -1,13 +1,18 @@
-"""recognizer: depth images in, class probabilities and the next view out (one object at a time)."""
+"""recognizer: depth images in, class probabilities and the next view out (one object at a time).
+
+Any depth camera: each image is paired with the latest CameraInfo and with the camera pose of
+its stamp, and the core reprojects it into the model's own camera (reprojection.py).
+"""
 import json
 import time
 from collections import deque
+from dataclasses import replace
 
 from geometry_msgs.msg import PoseStamped
-from rcl_interfaces.msg import ParameterType
+from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rclpy.node import Node
 from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data
-from sensor_msgs.msg import Image
+from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float32MultiArray, String
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
@@ -15,20 +20,31 @@ from visualization_msgs.msg import MarkerArray
 import msg_adapters as ma
 from active_recognition.nodes import declare_parameters, run_node
 from active_recognition.episode import EpisodeConfig
-from active_recognition.recognizer import ActiveRecognizer
+from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 
+STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
+INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
 PARAMS = {  # name: (default, type, description)
-    "checkpoint": ("", ParameterType.PARAMETER_STRING, "model file; empty = the shipped model"),
-    "planner": ("auto", ParameterType.PARAMETER_STRING,
-                "next-view planner: auto (the checkpoint's best), learned, random, straight, "
-                "reinforce, fixed or imitation"),
-    "entropy_threshold": (0.1, ParameterType.PARAMETER_DOUBLE, "stop below this entropy (nats)"),
-    "max_views": (10, ParameterType.PARAMETER_INTEGER, "stop after this many views"),
-    "seed": (0, ParameterType.PARAMETER_INTEGER, "seed of the random initial views"),
-    "frame_id": ("object", ParameterType.PARAMETER_STRING, "frame of next_view: the object's"),
-    "require_fresh_images": (True, ParameterType.PARAMETER_BOOL,
-                             "ignore images stamped before the last next_view request"),
+    "checkpoint": ("", STR, "model file; empty = the shipped model"),
+    "planner": ("auto", STR, "next-view planner: auto (the checkpoint's best), learned, random, "
+                             "straight, reinforce, fixed or imitation"),
+    "entropy_threshold": (0.1, DBL, "stop below this entropy (nats)"),
+    "max_views": (10, INT, "stop after this many views"),
+    "seed": (0, INT, "seed of the random initial views"),
+    "frame_id": ("object", STR, "frame of next_view: the object's"),
+    "require_fresh_images": (True, BOOL, "ignore images stamped before the last next_view request"),
+    "object_size": (1.0, DBL, "metres: longest edge of the object's bounding box (from the next "
+                              "reset)"),
+    "standoff": (0.0, DBL, "metres from the object's centre to the camera in next_view; 0 = auto "
+                           "(the object fills the camera's narrower field of view, 10 % margin)"),
+    "pose_tolerance": (0.05, DBL, "seconds: the camera/pose nearest an image's stamp within this is "
+                                  "its pose; an image waits this long for it"),
+    "min_object_fraction": (0.003, DBL, "images showing less of the object (share of the model's "
+                                        "pixels) are not classified"),
+    "max_empty_views": (3, INT, "this many empty images in a row end the episode: no_object"),
+    "box_margin": (0.1, DBL, "keep points this far (x object_size) outside the object's box"),
 }
+SENSING = ("object_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin")
 
 
 class Recognizer(Node):
@@ -36,9 +52,12 @@ class Recognizer(Node):
         super().__init__("recognizer", **kwargs)
         p = declare_parameters(self, PARAMS)
         self.frame_id, self.fresh_only = p["frame_id"], p["require_fresh_images"]
+        self.pose_tolerance = p["pose_tolerance"]
+        self.sensing = SensingConfig(**{k: p[k] for k in SENSING})
         self.core = ActiveRecognizer(p["checkpoint"] or None,
                                      EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"],
-                                     p["planner"])
+                                     p["planner"], self.sensing)
+        self.add_on_set_parameters_callback(self.on_parameters)
         latched = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
         self.pub_classes = self.create_publisher(String, "recognition/classes", latched)
         self.pub_probs = self.create_publisher(Float32MultiArray, "recognition/probabilities", 10)
@@ -46,24 +65,49 @@ class Recognizer(Node):
         self.pub_result = self.create_publisher(String, "recognition/result", 10)
         self.pub_view = self.create_publisher(PoseStamped, "next_view", 10)
         self.pub_markers = self.create_publisher(MarkerArray, "recognition/views", 10)
+        # info and pose first: when all three are ready at once, the executor takes them in order
+        self.create_subscription(CameraInfo, "depth/camera_info", self.on_info,
+                                 qos_profile_sensor_data)
+        self.create_subscription(PoseStamped, "camera/pose", self.on_pose, qos_profile_sensor_data)
         self.create_subscription(Image, "depth/image", self.on_image, qos_profile_sensor_data)
         self.create_service(Trigger, "~/reset", self.on_reset)
+        self.create_timer(0.01, self.on_timer)
         self.pub_classes.publish(String(data=json.dumps(self.core.classes)))
-        self.received = self.processed = self.idle = self.stale = self.rejected = 0
+        self.received = self.processed = self.idle = self.stale = self.rejected = self.empty = 0
         self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
-        self.request_stamp = None
+        self.poses = deque(maxlen=200)  # (stamp seconds, position, optical rotation)
+        self.intrinsics, self.pending, self.request_stamp, self.told = None, None, None, set()
+        self.expect_poses = True  # until an image has waited in vain for its pose
         self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, "
                                f"planner {self.core.planner}")
 
+    def once(self, key, text):
+        if key not in self.told:
+            self.told.add(key)
+            self.get_logger().info(text)
+
+    def on_parameters(self, params):
+        changes = {p.name: p.value for p in params if p.name in SENSING}
+        try:
+            self.sensing = replace(self.sensing, **changes)
+        except (ValueError, TypeError) as e:
+            return SetParametersResult(successful=False, reason=str(e))
+        if "pose_tolerance" in (p.name for p in params):
+            value = next(p.value for p in params if p.name == "pose_tolerance")
+            if not value >= 0:
+                return SetParametersResult(successful=False, reason="pose_tolerance must be >= 0")
+            self.pose_tolerance = value
+        return SetParametersResult(successful=True)
+
     def request_view(self):
-        msg = ma.view_to_pose(*self.core.view, self.core.radius, self.frame_id,
-                              self.get_clock().now().to_msg())
+        position, rotation = self.core.requested_pose(self.intrinsics)
+        msg = ma.position_to_pose(position, rotation, self.frame_id, self.get_clock().now().to_msg())
         self.request_stamp = (msg.header.stamp.sec, msg.header.stamp.nanosec)
         self.pub_view.publish(msg)
 
     def on_reset(self, request, response):
-        self.core.reset()
-        self.request_stamp = None
+        self.core.reset(sensing=self.sensing)
+        self.request_stamp, self.pending = None, None
         self.request_view()
         response.success, response.message = True, "new object; first view requested"
         return response
@@ -72,6 +116,49 @@ class Recognizer(Node):
         self.rejected += 1
         self.get_logger().warn(f"depth image rejected ({self.rejected} so far): {reason}",
                                throttle_duration_sec=2.0)
+
+    def on_info(self, msg):
+        try:
+            self.intrinsics = ma.camera_info_to_intrinsics(msg)
+        except ma.AdapterError as e:
+            self.get_logger().warn(f"camera_info ignored: {e}", throttle_duration_sec=2.0)
+
+    def on_pose(self, msg):
+        try:
+            position, rotation = ma.pose_to_camera(msg)
+        except ma.AdapterError as e:
+            self.get_logger().warn(f"camera/pose ignored: {e}", throttle_duration_sec=2.0)
+            return
+        self.poses.append((ma.stamp_seconds(msg.header.stamp), position, rotation))
+        self.expect_poses = True
+        if self.pending is not None:
+            pose = self.pose_at(self.pending[0])
+            if pose is not None:
+                self.process(*self.pending[1:3], pose, self.pending[4])
+
+    def on_timer(self):
+        if self.pending is not None and time.monotonic() - self.pending[3] > self.pose_tolerance:
+            pose = self.pose_at(self.pending[0], final=True)
+            if not self.poses:
+                self.expect_poses = False
+                self.once("pose", "no camera/pose received: assuming each image is taken at the "
+                                  "requested view")
+            elif pose is None:
+                self.get_logger().warn(f"no camera/pose within pose_tolerance "
+                                       f"({self.pose_tolerance} s) of the image: assuming the "
+                                       f"requested view", throttle_duration_sec=2.0)
+            self.process(*self.pending[1:3], pose, self.pending[4])
+
+    def pose_at(self, stamp, final=False):
+        """(position, rotation) of the pose stamped like the image, else the nearest within
+        pose_tolerance; None while none is that near. Until `final`, a pose stamped after
+        the image must have arrived too (the image's own may still be on its way)."""
+        best = min(self.poses, key=lambda p: abs(p[0] - stamp), default=None)
+        if best is None or abs(best[0] - stamp) > self.pose_tolerance:
+            return None
+        if not final and best[0] != stamp and max(p[0] for p in self.poses) < stamp:
+            return None
+        return best[1:]
 
     def on_image(self, msg):
         start = time.perf_counter()
@@ -84,23 +171,47 @@ class Recognizer(Node):
             self.stale += 1
             return  # taken before the camera reached the requested view
         try:
-            obs = self.core.observe(ma.image_to_metres(msg))
+            metres = ma.image_to_metres(msg)
         except ma.AdapterError as e:
             return self.reject(str(e))
-        self.processed += 1
+        k = self.intrinsics
+        if k is None:
+            self.once("info", "no CameraInfo on depth/camera_info yet: assuming the model's own "
+                              "camera (its field of view at the image's size)")
+        elif (k.height, k.width) != metres.shape:
+            return self.reject(f"image is {metres.shape[1]}x{metres.shape[0]} but the camera_info "
+                               f"is for {k.width}x{k.height}")
+        seconds = ma.stamp_seconds(msg.header.stamp)
+        pose = self.pose_at(seconds)
+        if pose is None and self.expect_poses:  # its pose may still be on its way
+            self.pending = (seconds, metres, k, time.monotonic(), start)
+            return
+        self.process(metres, k, pose, start)
+
+    def process(self, metres, k, pose, start):
+        self.pending = None
+        try:
+            obs = self.core.observe(metres, k, *(pose or (None, None)))
+        except ValueError as e:
+            return self.reject(str(e))
+        if obs.status == "empty":
+            self.empty += 1
+            self.get_logger().warn(f"no object in the image ({obs.object_fraction:.2%} of the "
+                                   f"model's pixels): asking for the same view again",
+                                   throttle_duration_sec=2.0)
+            return self.request_view()
+        if obs.status != "no_object":
+            self.processed += 1
+            if not obs.done:
+                self.request_view()
+            self.step_ms.append((time.perf_counter() - start) * 1e3)
+            self.pub_probs.publish(ma.probabilities_to_msg(obs.probs))
+            self.pub_label.publish(String(data=obs.label))
+            self.pub_markers.publish(ma.view_markers(
+                self.core.views_taken(), self.core.standoff(self.intrinsics), self.frame_id))
         if obs.done:
             self.request_stamp = None
-        else:
-            self.request_view()
-        self.step_ms.append((time.perf_counter() - start) * 1e3)
-        self.pub_probs.publish(ma.probabilities_to_msg(obs.probs))
-        self.pub_label.publish(String(data=obs.label))
-        self.pub_markers.publish(ma.view_markers(self.core.views_taken(), self.core.radius,
-                                                 self.frame_id))
-        if obs.done:
-            self.pub_result.publish(String(data=json.dumps(
-                {"label": obs.label, "probability": float(obs.probs.max()),
-                 "entropy": obs.entropy, "views": obs.views})))
+            self.pub_result.publish(String(data=json.dumps(obs.result())))
 
 
 def main(args=None):

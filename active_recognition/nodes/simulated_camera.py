@@ -1,4 +1,11 @@
-"""simulated_camera: renders the depth image a camera would see at every requested pose."""
+"""simulated_camera: renders the depth image a camera would see at every requested pose.
+
+Publishes, with one stamp, the image, its CameraInfo and the pose the camera really reached
+(`pose_error_deg`). The sensor parameters default to the model's own virtual camera;
+`demo --camera realsense` sets them to simulated_camera.PRESETS["realsense"].
+"""
+from dataclasses import fields
+
 from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rclpy.node import Node
@@ -7,24 +14,36 @@ from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
 from active_recognition.nodes import declare_parameters, run_node
-from active_recognition.simulated_camera import SimulatedCamera, camera_config
+from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
-INT = ParameterType.PARAMETER_INTEGER
+INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
+TYPES = {int: INT, float: DBL, str: STR, bool: BOOL}
+SENSOR_TEXT = {
+    "width": "image width, pixels", "height": "image height, pixels",
+    "fov": "horizontal field of view, degrees (used unless fx > 0)",
+    "fx": "focal length x, pixels; 0 = from fov", "fy": "focal length y, pixels; 0 = fx",
+    "cx": "principal point x, pixels; 0 = the centre", "cy": "principal point y; 0 = the centre",
+    "noise": "depth noise: none or kinect (sigma = 0.0012 + 0.0019 (z - 0.4)^2 m)",
+    "noise_scale": "multiplies the noise's sigma", "dropout": "fraction of pixels lost at random",
+    "edge_dropout": "degrees: drop flying pixels at depth jumps steeper than a surface this far "
+                    "from face-on; 0 = off",
+    "min_range": "metres; no return nearer", "max_range": "metres; no return farther; 0 = none",
+    "encoding": "32FC1 (metres) or 16UC1 (millimetres)",
+    "floor": "a plane under the object (seen from above)",
+    "pose_error_deg": "the arm misses each pose by this orbit; camera/pose says where it went",
+    "object_size": "metres: the mesh's longest bounding-box edge",
+}
 PARAMS = {  # name: (default, type, description)
     "mesh": ("", STR, "mesh file to show; empty = an object of `dataset`"),
     "dataset": ("procedural", STR, "procedural, twins, modelnet, shapenet or folder"),
     "root": ("", STR, "dataset root (not for procedural)"),
     "split": ("test", STR, "train or test"),
     "index": (0, INT, "which object of the dataset split"),
-    "width": (64, INT, "image width, pixels"),
-    "height": (64, INT, "image height, pixels"),
-    "fov_deg": (0.0, DBL, "horizontal field of view; 0 = holds the [-0.5, 0.5]^3 cube from radius"),
-    "radius": (1.0, DBL, "viewing-sphere radius the default field of view is made for"),
     "frame_id": ("camera_depth_optical_frame", STR, "frame_id of the images"),
-    "noise_std": (0.0, DBL, "depth noise, metres at 1 m (grows with depth squared)"),
-    "dropout": (0.0, DBL, "fraction of pixels with no return"),
-    "seed": (0, INT, "seed of the noise"),
+    "seed": (0, INT, "seed of the noise and the pose error"),
+    **{f.name: (f.default, TYPES[type(f.default)], SENSOR_TEXT[f.name])
+       for f in fields(SensorConfig)},
 }
 OBJECT = ("mesh", "dataset", "root", "split", "index")
 
@@ -33,15 +52,17 @@ class SimulatedCameraNode(Node):
     def __init__(self, **kwargs):
         super().__init__("simulated_camera", **kwargs)
         p = declare_parameters(self, PARAMS)
-        self.sim = SimulatedCamera(camera_config(p["width"], p["height"], p["fov_deg"], p["radius"]),
-                                   p["noise_std"], p["dropout"], p["seed"])
+        sensor = SensorConfig(**{f.name: p[f.name] for f in fields(SensorConfig)})
+        self.sim = SimulatedCamera(sensor, p["seed"])
         self.sim.load(**{k: p[k] for k in OBJECT})
         self.frame_id = p["frame_id"]
         self.add_on_set_parameters_callback(self.on_parameters)
         self.pub_image = self.create_publisher(Image, "depth/image", qos_profile_sensor_data)
         self.pub_info = self.create_publisher(CameraInfo, "depth/camera_info", qos_profile_sensor_data)
+        self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos_profile_sensor_data)
         self.create_subscription(PoseStamped, "next_view", self.on_pose, 10)
-        self.get_logger().info(f"simulated camera showing {self.sim.description}")
+        self.get_logger().info(f"simulated camera ({sensor.width}x{sensor.height}) showing "
+                               f"{self.sim.description}")
 
     def on_parameters(self, params):
         changes = {p.name: p.value for p in params if p.name in OBJECT}
@@ -62,10 +83,11 @@ class SimulatedCameraNode(Node):
         except ma.AdapterError as e:
             self.get_logger().warn(f"pose rejected: {e}", throttle_duration_sec=2.0)
             return
-        depth = self.sim.render(position, rotation)
+        depth, position, rotation = self.sim.capture(position, rotation)
         stamp = msg.header.stamp
-        self.pub_info.publish(ma.camera_info(self.sim.config, stamp, self.frame_id))
-        self.pub_image.publish(ma.metres_to_image(depth, stamp, self.frame_id))
+        self.pub_info.publish(ma.camera_info(self.sim.k, stamp, self.frame_id))
+        self.pub_pose.publish(ma.position_to_pose(position, rotation, msg.header.frame_id, stamp))
+        self.pub_image.publish(ma.metres_to_image(depth, stamp, self.frame_id, self.sim.sensor.encoding))
 
 
 def main(args=None):

@@ -1,0 +1,183 @@
+"""Any depth camera -> the model's virtual camera: back-project, crop to the object, re-render.
+
+A real camera has its own lens, resolution, distance and pose, and sees the floor under the
+object. The network only knows its own camera: radius R on the viewing sphere, its field of
+view, the object scaled into [-0.5, 0.5]^3. `reproject` closes that gap with geometry alone:
+1. back-project the valid pixels with K into the optical frame, move them into the object frame
+   with the camera's pose;
+2. scale by 1/object_size and keep the points inside the object's box (plus `box_margin`), so
+   walls and other objects never reach the network; the support surface the object stands on
+   lies on the box's bottom face, so it is found (`support_height`) and cut off as well;
+3. z-buffer the points into the model's image at the actual view direction (the theta, phi of
+   the camera's position), fill small holes, normalise to [0, 255].
+No ROS here: the recognizer node only wires messages to it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import geometry
+from .depth_layer import CameraConfig, normalise_depth
+
+STANDOFF_MARGIN = 1.1  # the auto standoff leaves 10 % around the object's bounding sphere
+
+
+def auto_standoff(k: geometry.Intrinsics, object_size=1.0, margin=STANDOFF_MARGIN):
+    """Distance (metres) at which the object's bounding sphere (the box of edge `object_size`)
+    fills the narrower field of view of `k`, with `margin` to spare."""
+    return margin * geometry.CUBE_RADIUS * object_size / math.sin(k.half_fov())
+
+
+def support_height(points, box_margin=0.1, bin_width=0.02):
+    """The height of the surface the object stands on, or None when none is seen.
+
+    points: (N, 3) in the normalised object frame. Points beside the object's footprint (outside
+    the box in x or y) but low in the box cannot be the object: a floor or table top is the
+    lowest dense layer among them. Returns (height, thickness): cut below height + thickness.
+    """
+    beside = np.abs(points[:, :2]).max(1)
+    out = points[(beside > 0.5 + box_margin) & (beside < 1.5)
+                 & (points[:, 2] > -0.5 - box_margin - bin_width) & (points[:, 2] < 0.0)]
+    if len(out) < 8:
+        return None
+    counts, edges = np.histogram(out[:, 2], np.arange(out[:, 2].min(), 0.0 + bin_width, bin_width))
+    dense = np.nonzero(counts >= max(8, 0.25 * len(out)))[0]
+    if len(dense) == 0:
+        return None
+    lo = edges[dense[0]] - bin_width
+    layer = out[(out[:, 2] >= lo) & (out[:, 2] < edges[dense[0]] + 2 * bin_width), 2]
+    height = float(np.median(layer))
+    spread = float(np.median(np.abs(layer - height))) * 1.4826  # robust standard deviation
+    return height, max(bin_width, 4 * spread)
+
+
+def fill_holes(z, fillable=None, iterations=4, agree=0.05):
+    """Fill missing pixels (inf) that lie inside a surface: between two opposite neighbours whose
+    depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
+    present (their median). Neither rule grows a silhouette: a pixel outside an edge, a corner or
+    a staircase has at most 2 direct neighbours. Only `fillable` pixels (default all) change."""
+    z = z.copy()
+    h, w = z.shape
+    for _ in range(iterations):
+        holes = ~np.isfinite(z) if fillable is None else ~np.isfinite(z) & fillable
+        if not holes.any():
+            break
+        pad = np.pad(np.where(np.isfinite(z), z, np.nan), 1, constant_values=np.nan)
+        nb = np.stack([pad[1 + dr:1 + dr + h, 1 + dc:1 + dc + w]
+                       for dr, dc in ((-1, 0), (0, -1), (-1, -1), (-1, 1),
+                                      (1, 0), (0, 1), (1, 1), (1, -1))])  # (8, H, W): i, i + 4 opposite
+        a, b = nb[:4], nb[4:]
+        with np.errstate(invalid="ignore"):
+            gap = np.where(np.abs(a - b) <= agree * np.fmin(a, b), np.abs(a - b), np.inf)
+        pair = holes & np.isfinite(gap).any(0)
+        direct = nb[[0, 1, 4, 5]]
+        crowd = holes & ~pair & (np.isfinite(direct).sum(0) >= 3)
+        if not (pair.any() or crowd.any()):
+            break
+        best = np.argmin(gap, 0)
+        mean = (np.take_along_axis(a, best[None], 0)[0] + np.take_along_axis(b, best[None], 0)[0]) / 2
+        z[pair] = mean[pair]
+        z[crowd] = np.nanmedian(direct[:, crowd], axis=0)
+    return z
+
+
+def spread(z, steps):
+    """Each missing pixel (NaN) takes the depth of a present pixel within `steps` pixels (4-way
+    steps, the nearest first); farther ones stay NaN."""
+    z = z.copy()
+    h, w = z.shape
+    for _ in range(steps):
+        gaps = np.isnan(z)
+        if not gaps.any():
+            break
+        pad = np.pad(z, 1, constant_values=np.nan)
+        nb = np.stack([pad[:-2, 1:-1], pad[2:, 1:-1], pad[1:-1, :-2], pad[1:-1, 2:]])
+        reach = gaps & ~np.isnan(nb).all(0)
+        if not reach.any():
+            break
+        z[reach] = np.nanmin(nb[:, reach], 0)
+    return z
+
+
+def project(points, view, camera: CameraConfig):
+    """Points (N, 3) in the normalised object frame -> (pixel index (M,), z-depth (M,)) in the
+    model's camera at view (theta, phi) on its sphere; points behind it or off the image drop."""
+    rot = geometry.view_rotation(*view)
+    local = (points - rot[:, 2] * camera.radius) @ rot  # t = 0 frame: up +X, right -Y, fwd -Z
+    z = -local[:, 2]
+    front = z > 1e-6
+    local, z = local[front], z[front]
+    k = camera.intrinsics()
+    col = np.rint(k.cx - k.fx * local[:, 1] / z).astype(np.int64)  # right = -Y
+    row = np.rint(k.cy - k.fy * local[:, 0] / z).astype(np.int64)  # down = -up
+    inside = (row >= 0) & (row < camera.height) & (col >= 0) & (col < camera.width)
+    return row[inside] * camera.width + col[inside], z[inside]
+
+
+def z_buffer(index, z, size, surface=0.1):
+    """Per pixel the depth of the nearest surface among the depths z landing on it (pixel indices
+    `index`): the mean of those within `surface` of the nearest; inf where none lands."""
+    near = np.full(size, np.inf)
+    np.minimum.at(near, index, z)
+    front = z <= near[index] + surface
+    count = np.bincount(index[front], minlength=size)
+    mean = np.bincount(index[front], z[front], minlength=size) / np.maximum(count, 1)
+    return np.where(count > 0, mean, np.inf)
+
+
+@dataclass
+class Reprojection:
+    depth: np.ndarray       # (H, W) the network's input, normalised depth in [0, 255]
+    view: tuple             # (theta, phi) of the actual camera position
+    object_fraction: float  # share of the model's pixels that show the object
+    support: tuple | None   # (height, thickness) of the support surface removed, normalised
+
+
+def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera: CameraConfig,
+              object_size=1.0, box_margin=0.1, fill=True) -> Reprojection:
+    """A real depth image -> the model's image at the camera's actual view (module docstring).
+
+    metres (H, W) z-depth; k its intrinsics; position (3,) metres and optical_rotation (3, 3)
+    (columns x right, y down, z forward) of the camera in the object frame; camera the model's.
+    """
+    if not (math.isfinite(object_size) and object_size > 0):
+        raise ValueError(f"object_size must be a positive number of metres, got {object_size}")
+    z = np.asarray(metres, dtype=np.float64)
+    if z.shape != (k.height, k.width):
+        raise ValueError(f"depth image is {z.shape[1]}x{z.shape[0]} but the camera info says "
+                         f"{k.width}x{k.height}")
+    if fill:  # pixels lost inside surfaces (dropout, flying pixels): fill them where they are
+        z = fill_holes(np.where(np.isfinite(z) & (z > 0), z, np.inf))
+    position = np.asarray(position, dtype=np.float64) / object_size
+    rotation = np.asarray(optical_rotation, dtype=np.float64)
+    _, theta, phi = geometry.view_from_position(position)
+    valid = (np.isfinite(z) & (z > 0)).ravel()
+    # every pixel's ray, at its depth, or where it passes the object's centre when it saw nothing
+    centre_depth = max(float(-position @ rotation[:, 2]) * object_size, 1e-6)
+    depth_all = np.where(valid, z.ravel(), centre_depth)
+    pts = (k.rays().reshape(-1, 3) * depth_all[:, None]) @ rotation.T / object_size + position
+    support = support_height(pts[valid], box_margin)
+    keep = valid & (np.abs(pts) <= 0.5 + box_margin).all(1)
+    if support is not None and position[2] > support[0]:  # a support is only seen from above
+        keep &= pts[:, 2] > support[0] + support[1]
+    # A pixel shows the object when most of the rays through it hit the object: the render's
+    # rule (one ray, through the centre), with no half-pixel growth from a dense camera. Rays
+    # that missed the object count where they pass it: at the depth of the object beside them.
+    n = camera.height * camera.width
+    index, depth = project(pts[keep], (theta, phi), camera)
+    ratio = (k.fx / (centre_depth / object_size)) / (camera.intrinsics().fx / camera.radius)
+    beside = spread(np.where(keep, z.ravel(), np.nan).reshape(z.shape),
+                    int(min(32, math.ceil(2 * ratio)))).ravel()
+    beside = np.where(keep | np.isnan(beside), depth_all, beside)
+    rays = (k.rays().reshape(-1, 3) * beside[:, None]) @ rotation.T / object_size + position
+    samples = np.bincount(project(rays, (theta, phi), camera)[0], minlength=n)
+    out = z_buffer(index, depth, n)
+    out[np.bincount(index, minlength=n) < 0.5 * samples] = np.inf
+    out = out.reshape(camera.height, camera.width)
+    found = float(np.isfinite(out).mean())
+    if fill:  # pixels no ray passed through: a camera farther off than the model's
+        out = fill_holes(out, samples.reshape(out.shape) == 0)
+    return Reprojection(normalise_depth(out, camera), (theta, phi), found, support)
