@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -191,10 +192,17 @@ class Intrinsics:
         return math.atan(min(x, y))
 
     def rays(self):
-        """(H, W, 3) optical-frame directions (x right, y down, z forward) with z = 1."""
-        rows, cols = np.meshgrid(np.arange(self.height), np.arange(self.width), indexing="ij")
-        return np.stack([(cols - self.cx) / self.fx, (rows - self.cy) / self.fy,
-                         np.ones(rows.shape)], -1)
+        """(H, W, 3) optical-frame directions (x right, y down, z forward) with z = 1; shared,
+        read-only (one camera's rays are built once)."""
+        return _rays(self)
+
+
+@lru_cache(maxsize=8)
+def _rays(k):
+    rows, cols = np.meshgrid(np.arange(k.height), np.arange(k.width), indexing="ij")
+    out = np.stack([(cols - k.cx) / k.fx, (rows - k.cy) / k.fy, np.ones(rows.shape)], -1)
+    out.flags.writeable = False
+    return out
 
 
 def random_views(rng, n):
