@@ -6,7 +6,6 @@ the best accuracy `reinforce` reaches, over reinforce's time.
 Writes the report under docs/results/ (docs/results/<dataset>/ for other datasets than
 procedural) and re-renders docs/RESULTS.md. Last line is JSON."""
 import argparse
-import json
 from pathlib import Path
 
 from common import emit
