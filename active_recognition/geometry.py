@@ -170,10 +170,10 @@ class Intrinsics:
         if not (1 <= self.width <= 4096 and 1 <= self.height <= 4096):
             raise ValueError(f"camera size {self.width}x{self.height} must be 1..4096 pixels a side")
         for name in ("fx", "fy", "cx", "cy"):
-            value = getattr(self, name)
-            if not math.isfinite(value) or (name in ("fx", "fy") and value <= 0):
-                raise ValueError(f"camera {name} must be a finite{' positive' * (name < 'c')} "
-                                 f"number of pixels, got {value}")
+            value, focal = getattr(self, name), name in ("fx", "fy")
+            if not math.isfinite(value) or (focal and value <= 0):
+                kind = "a positive" if focal else "a finite"
+                raise ValueError(f"camera {name} must be {kind} number of pixels, got {value}")
 
     @classmethod
     def from_fov(cls, width, height, fov):

@@ -54,9 +54,6 @@ class SensingConfig:
                 raise ValueError(f"{name} = {value!r} is out of range (see SensingConfig)")
 
 
-STATUSES = ("classified", "recognized", "empty", "no_object")
-
-
 @dataclass
 class Observation:
     status: str              # classified (go on), recognized (stopped), empty, no_object (ended)
@@ -135,14 +132,10 @@ class ActiveRecognizer:
         metres = np.asarray(metres, dtype=np.float32)
         if metres.ndim != 2:
             raise ValueError(f"depth must be an (H, W) image, got shape {metres.shape}")
+        if position is None:
+            position, rotation = self.requested_pose(k)
         if k is None:
             k = geometry.Intrinsics.from_fov(metres.shape[1], metres.shape[0], self.camera.fov_rad)
-            standoff = self.standoff()
-        else:
-            standoff = self.standoff(k)
-        if position is None:
-            position = geometry.camera_position(*self.view, standoff)
-            rotation = geometry.optical_rotation(*self.view)
         return reproject(metres, k, position, rotation, self.camera, self.sensing.object_size,
                          self.sensing.box_margin)
 

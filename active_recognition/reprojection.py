@@ -158,7 +158,11 @@ def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera
     # every pixel's ray, at its depth, or where it passes the object's centre when it saw nothing
     centre_depth = max(float(-position @ rotation[:, 2]) * object_size, 1e-6)
     depth_all = np.where(valid, z.ravel(), centre_depth)
-    pts = (k.rays().reshape(-1, 3) * depth_all[:, None]) @ rotation.T / object_size + position
+
+    def along_rays(depth):  # every pixel's ray at `depth` (metres) -> normalised object frame
+        return (k.rays().reshape(-1, 3) * depth[:, None]) @ rotation.T / object_size + position
+
+    pts = along_rays(depth_all)
     support = support_height(pts[valid], box_margin)
     keep = valid & (np.abs(pts) <= 0.5 + box_margin).all(1)
     if support is not None and position[2] > support[0]:  # a support is only seen from above
@@ -172,8 +176,7 @@ def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera
     beside = spread(np.where(keep, z.ravel(), np.nan).reshape(z.shape),
                     int(min(32, math.ceil(2 * ratio)))).ravel()
     beside = np.where(keep | np.isnan(beside), depth_all, beside)
-    rays = (k.rays().reshape(-1, 3) * beside[:, None]) @ rotation.T / object_size + position
-    samples = np.bincount(project(rays, (theta, phi), camera)[0], minlength=n)
+    samples = np.bincount(project(along_rays(beside), (theta, phi), camera)[0], minlength=n)
     out = z_buffer(index, depth, n)
     out[np.bincount(index, minlength=n) < 0.5 * samples] = np.inf
     out = out.reshape(camera.height, camera.width)

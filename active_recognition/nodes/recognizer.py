@@ -87,16 +87,15 @@ class Recognizer(Node):
             self.get_logger().info(text)
 
     def on_parameters(self, params):
-        changes = {p.name: p.value for p in params if p.name in SENSING}
+        values = {p.name: p.value for p in params}
+        tolerance = values.get("pose_tolerance", self.pose_tolerance)
+        if not tolerance >= 0:
+            return SetParametersResult(successful=False, reason="pose_tolerance must be >= 0")
         try:
-            self.sensing = replace(self.sensing, **changes)
+            self.sensing = replace(self.sensing, **{k: v for k, v in values.items() if k in SENSING})
         except (ValueError, TypeError) as e:
             return SetParametersResult(successful=False, reason=str(e))
-        if "pose_tolerance" in (p.name for p in params):
-            value = next(p.value for p in params if p.name == "pose_tolerance")
-            if not value >= 0:
-                return SetParametersResult(successful=False, reason="pose_tolerance must be >= 0")
-            self.pose_tolerance = value
+        self.pose_tolerance = tolerance
         return SetParametersResult(successful=True)
 
     def request_view(self):
