@@ -19,7 +19,7 @@ setup(
     python_requires=">=3.10",
     # torch: install the CPU build first on CPU machines (README), or an unpinned torch pulls CUDA
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
-                      "tqdm", "matplotlib", "pyyaml"],
+                      "tqdm", "matplotlib", "pyyaml", "shapely>=2", "mapbox-earcut"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
     extras_require={"ros": ros, "test": ["pytest>=7"]},
     zip_safe=True,

@@ -188,6 +188,17 @@ def add_train(sub):
     p.add_argument("--checkpoint-every", dest="checkpoint_every", type=int,
                    help="write last.pt every N batches")
     p.add_argument("--max-shapes", dest="max_shapes", type=int, help="train on a seeded subset")
+    p.add_argument("--yaw", action="store_true", default=None,
+                   help="augment: turn every training object by a random yaw about z (for an "
+                        "object frame of unknown heading)")
+    p.add_argument("--frame-error", dest="frame_error", type=float,
+                   help="augment: object frame off by up to this fraction of the object's size, in "
+                        "centre and in size (a detector's error; 0.15 in the shipped presets)")
+    p.add_argument("--floor-cut", dest="floor_cut", type=float,
+                   help="augment: cut away up to this fraction of the object's bottom (0)")
+    p.add_argument("--dropout", type=float,
+                   help="augment: up to this fraction of each image's pixels, and as many of its "
+                        "depth-edge pixels, missing (0)")
     p.add_argument("--seed", type=int, help="seed of every random choice")
     p.add_argument("--device", help="cpu or cuda")
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")

@@ -98,6 +98,7 @@ class DepthCamera:
         if len(faces) == 0 or faces.min() < 0 or faces.max() >= len(vertices):
             raise ValueError("mesh has no faces or face indices outside its vertex list")
         self.config = config
+        self.crop = None  # (lo (3,), hi (3,)): only hits inside this box count (augmentation)
         self.scene = rtcore_scene.EmbreeScene(_DEVICE)
         TriangleMesh(self.scene, vertices, faces)
         if intrinsics is None:
@@ -142,8 +143,13 @@ class DepthCamera:
             orig = np.repeat(orig32, n, 0)
         # embree writes each ray's hit distance into `dists`: inf stays where a ray misses
         out = self.scene.run(orig, dirs, dists=np.full(b * n, np.inf, np.float32), output=1)
-        dist = out["tfar"]
-        return Hits(origins, rotations, dist.reshape(b, n), out["Ng"].reshape(b, n, 3))
+        dist, normals = out["tfar"], out["Ng"]
+        if self.crop is not None:  # hits outside the box read as misses
+            hit = np.flatnonzero(np.isfinite(dist))
+            pts = orig[hit] + dirs[hit] * dist[hit, None]
+            outside = hit[~np.all((pts >= self.crop[0]) & (pts <= self.crop[1]), axis=1)]
+            dist[outside], normals[outside] = np.inf, 0
+        return Hits(origins, rotations, dist.reshape(b, n), normals.reshape(b, n, 3))
 
     def zdepth(self, hits: Hits) -> np.ndarray:
         """Depth along the optical axis (B, H, W): D f / sqrt(x^2 + y^2 + f^2); inf on a miss."""

@@ -106,13 +106,15 @@ class Episode:
         return step
 
 
-def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean"):
+def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean",
+        corrupt=None):
     """Close the loop in simulation: render each camera at the episode's view, step, repeat.
 
     cameras: one DepthCamera per object; initial_views (B, 2). With `rule` ("paper"/"surface")
     the renders are differentiable in the view (training); without, they are plain.
     Runs `steps` steps (default: the episode's max_views) regardless of early stopping; the
-    episode records where each object would have stopped. Returns the list of Steps.
+    episode records where each object would have stopped. `corrupt` (training augmentation)
+    maps each batch of images to a damaged copy. Returns the list of Steps.
     """
     from .depth_layer import render_views
 
@@ -122,6 +124,6 @@ def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reducti
         view = episode.view
         if rule is None:
             view = view.detach()
-        depth = render_views(view.double(), cameras, rule or "paper", reduction)
-        out.append(episode.step(depth.float()))
+        depth = render_views(view.double(), cameras, rule or "paper", reduction).float()
+        out.append(episode.step(depth if corrupt is None else corrupt(depth)))
     return out

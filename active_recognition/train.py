@@ -25,6 +25,7 @@ from torch import nn
 from tqdm import tqdm
 
 from . import checkpoint, geometry
+from .augment import Augment
 from .datasets import default_cache_dir, open_dataset
 from .depth_layer import CameraConfig, DepthCamera
 from .episode import Episode, EpisodeConfig, run
@@ -63,6 +64,10 @@ class TrainConfig:
     device: str = "cpu"
     resume: bool = False
     max_shapes: int = 0               # use only the first N training shapes (0: all)
+    yaw: bool = False                 # augment: objects turned by a random yaw (unknown heading)
+    frame_error: float = 0.0          # augment: object frame off by up to this (centre, size)
+    floor_cut: float = 0.0            # augment: up to this fraction of the bottom cut away
+    dropout: float = 0.0              # augment: up to this fraction of pixels (and edges) missing
     model: dict = field(default_factory=dict)  # ModelConfig overrides
 
     def __post_init__(self):
@@ -81,10 +86,15 @@ class TrainConfig:
         if self.step_weighting not in STEP_WEIGHTINGS:
             raise ValueError(f"step weighting must be one of {STEP_WEIGHTINGS}, "
                              f"got {self.step_weighting!r}")
+        self.augment()  # refuses bad augmentation now, not after loading the data
         if self.initial_step is not None and (len(self.initial_step) != 2 or not all(
                 math.isfinite(float(v)) for v in self.initial_step)):
             raise ValueError(f"initial step must be two finite angles (dtheta, dphi), "
                              f"got {self.initial_step!r}")
+
+
+    def augment(self) -> Augment:
+        return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout)
 
 
 def step_weights(steps, weighting="uniform"):
@@ -115,7 +125,8 @@ def set_initial_step(model, step):
 
 
 class Shapes:
-    """A dataset split with one lazily built DepthCamera per shape."""
+    """A dataset split with one lazily built DepthCamera per shape, or with `augment` (and an
+    rng) a fresh camera around an augmented copy of each shape."""
 
     def __init__(self, ds, camera: CameraConfig):
         self.ds, self.camera, self._cams = ds, camera, {}
@@ -124,7 +135,9 @@ class Shapes:
     def __len__(self):
         return len(self.ds)
 
-    def cameras(self, idx):
+    def cameras(self, idx, augment: Augment | None = None, rng=None):
+        if augment is not None and augment.meshes:
+            return [augment.camera(*self.ds.mesh(i), self.camera, rng) for i in idx]
         for i in idx:
             if i not in self._cams:
                 self._cams[i] = DepthCamera(*self.ds.mesh(i), self.camera)
@@ -146,15 +159,16 @@ class PretrainLoss(nn.Module):
 class JointLoss(nn.Module):
     """A whole batch of episodes, rendered through the differentiable depth layer."""
 
-    def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0):
+    def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0,
+                 corrupt=None):
         super().__init__()
         self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
-        self.revisit = revisit
+        self.revisit, self.corrupt = revisit, corrupt
 
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
-        out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
+        out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         loss = steps_loss(out, labels, self.weights)
         if self.revisit:
             loss = loss + self.revisit * revisit_penalty(torch.stack(ep.views[:self.steps], 1))
@@ -181,9 +195,9 @@ class ReinforceLoss(nn.Module):
     """
 
     def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9,
-                 rule=None, reduction="mean"):
+                 rule=None, reduction="mean", corrupt=None):
         super().__init__()
-        self.model, self.steps, self.std = model, steps, std
+        self.model, self.steps, self.std, self.corrupt = model, steps, std, corrupt
         self.rule, self.reduction = rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
         self.entropy_weight, self.momentum = entropy_weight, momentum
@@ -192,7 +206,7 @@ class ReinforceLoss(nn.Module):
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      exploration_std=self.std, explore_through=self.rule is not None)
-        out = run(ep, cameras, views, self.steps, self.rule, self.reduction)
+        out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         ce = steps_loss(out, labels, self.weights)
         correct = (out[-1].logits.argmax(1) == labels).float()
         gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
@@ -214,9 +228,9 @@ class ImitationLoss(nn.Module):
     states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
     """
 
-    def __init__(self, model, steps, weighting="uniform", mix=0.5):
+    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None):
         super().__init__()
-        self.model, self.steps, self.mix = model, steps, mix
+        self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
 
@@ -233,11 +247,12 @@ class ImitationLoss(nn.Module):
         model, k = self.model, len(self.candidates)
         with torch.no_grad():
             depth = np.stack([c.render(self.candidates) for c in cameras])          # (B, K, H, W)
-            feats = model.features(torch.from_numpy(depth).flatten(0, 1).to(labels.device))
+            depth = self.corrupt(torch.from_numpy(depth))
+            feats = model.features(depth.flatten(0, 1).to(labels.device))
         self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      planner=self)
-        out = run(ep, cameras, views, self.steps)  # plain renders: the views come from next_view
+        out = run(ep, cameras, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
@@ -345,6 +360,8 @@ def train(cfg: TrainConfig, progress=True):
     model = RecurrentAttention(mcfg).to(device)
     camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
     shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
+    augment = cfg.augment()
+    corrupt = augment.images if augment.dropout > 0 else None
     state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
     rows, elapsed, opt_state = [], 0.0, None
     if cfg.resume and ckpt_path.exists():
@@ -389,12 +406,12 @@ def train(cfg: TrainConfig, progress=True):
         elif cfg.policy in ("reinforce", "hybrid"):
             rule = cfg.view_gradient if cfg.policy == "hybrid" else None
             wrapper = ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
-                                    reduction=cfg.gradient_reduction)
+                                    reduction=cfg.gradient_reduction, corrupt=corrupt)
         elif cfg.policy == "imitation":
-            wrapper = ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix)
+            wrapper = ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt)
         else:
             wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
-                                cfg.step_weighting, cfg.revisit_penalty)
+                                cfg.step_weighting, cfg.revisit_penalty, corrupt)
         # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
         net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
                if world > 1 else wrapper)
@@ -409,13 +426,14 @@ def train(cfg: TrainConfig, progress=True):
                 rng = np.random.default_rng([cfg.seed, s, epoch, b, rank])
                 torch.manual_seed(int(rng.integers(2 ** 31)))
                 y = torch.as_tensor(shapes.labels[idx], device=device)
-                cams = shapes.cameras(idx)
+                cams = shapes.cameras(idx, augment, rng)
                 if stage == "pretrain":
                     k = cfg.views_per_shape
                     views = [geometry.random_views(rng, k) for _ in cams]
-                    depth = np.concatenate([c.render(v) for c, v in zip(cams, views)])
+                    depth = augment.images(torch.from_numpy(np.concatenate(
+                        [c.render(v) for c, v in zip(cams, views)])))
                     views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=device)
-                    loss, acc = net(torch.from_numpy(depth).to(device), y.repeat_interleave(k), views)
+                    loss, acc = net(depth.to(device), y.repeat_interleave(k), views)
                 else:
                     views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
                     loss, acc = net(cams, views, y)

@@ -5,6 +5,8 @@ import pytest
 import trimesh
 
 from active_recognition.datasets import open_dataset, procedural
+from active_recognition.datasets.furniture import HELD_OUT_STYLES, STYLES, TRAIN_STYLES
+from active_recognition.datasets.parts import Style, leg, place, slab
 from active_recognition.datasets.procedural import CLASSES, make_shape
 from active_recognition.depth_layer import CameraConfig, DepthCamera
 from active_recognition.meshes import MeshError, load_mesh
@@ -119,12 +121,13 @@ def test_procedural_is_deterministic_and_seeds_differ():
     assert a[0].shape != c[0].shape or not np.allclose(a[0], c[0])
 
 
-def test_procedural_classes_render_with_hits_from_every_side():
+@pytest.mark.parametrize("style", range(STYLES))
+def test_procedural_styles_render_with_hits_from_every_side(style):
     cfg = CameraConfig(32, 32)
     views = np.array([[0.2, 0.0], [1.57, 0.0], [1.57, 1.57], [2.9, 0.0]])
     for label in range(len(CLASSES)):
         for seed in range(3):
-            v, f = make_shape(label, seed)
+            v, f = make_shape(label, seed, styles=(style,))
             assert np.all(v >= -0.5 - 1e-6) and np.all(v <= 0.5 + 1e-6)
             assert np.isclose((v.max(0) - v.min(0)).max(), 1.0, atol=1e-6)
             depth = DepthCamera(v, f, cfg).render(views)
@@ -139,3 +142,49 @@ def test_procedural_split_cache_round_trips(tmp_path):
         np.testing.assert_array_equal(ds.mesh(i)[1], again.mesh(i)[1])
     train = procedural("train", per_class=2)
     assert not {p for p, _ in train.items} & {p for p, _ in ds.items}
+
+
+def drawn_style(ds, i, make):
+    """The style a generated item was built in: the one whose single-style build matches it
+    (the style is the seed's first draw, so the rest of the draws agree)."""
+    label, seed = ds.items[i][1], int(ds.items[i][0].split("/")[1])
+    v = ds.mesh(i)[0]
+    found = [s for s in range(STYLES) if np.array_equal(make(label, seed, styles=(s,))[0], v)]
+    assert len(found) == 1, found
+    return found[0]
+
+
+@pytest.mark.parametrize("name", ["procedural", "twins"])
+def test_the_cross_style_split_holds_only_the_held_out_styles(name):
+    from active_recognition.datasets.twins import make_shape as twin_shape
+    make = make_shape if name == "procedural" else twin_shape
+    train, cross = (open_dataset(name, split=s, per_class=3) for s in ("train", "cross"))
+    if name == "procedural":  # twins draw their dressing from two sets, not one style each
+        assert {drawn_style(train, i, make) for i in range(len(train))} <= set(TRAIN_STYLES)
+        assert {drawn_style(cross, i, make) for i in range(len(cross))} <= set(HELD_OUT_STYLES)
+        assert len({drawn_style(cross, i, make) for i in range(len(cross))}) == 2
+    assert list(cross.class_counts()) == [3] * len(cross.classes)
+    assert not {p for p, _ in train.items} & {p for p, _ in cross.items}
+
+
+@pytest.mark.parametrize("edge", ["bevel", "round"])
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_a_slab_with_soft_edges_fills_its_box_less_a_corner_strip(edge, axis):
+    size = np.array([0.5, 0.3, 0.2])
+    m = slab((1, 2, 3), size, Style(edge=edge, quad_segs=4), axis=axis, radius=0.05)
+    np.testing.assert_allclose(m.bounds, [np.array((1, 2, 3)) - size / 2, np.array((1, 2, 3)) + size / 2],
+                               atol=1e-9)
+    assert m.is_watertight and m.volume > 0  # `place` rotates, never mirrors
+    # four corners of r = 0.05 cut off along the axis: r^2 (4 - pi) for round, r^2 * 2 for bevel
+    lost = 0.05 ** 2 * ((4 - np.pi) if edge == "round" else 2.0) * size[axis]
+    assert abs((size.prod() - m.volume) - lost) < 0.12 * lost
+
+
+@pytest.mark.parametrize("kind", ["square", "round", "tapered", "turned", "splayed"])
+def test_every_leg_stands_on_the_floor_and_reaches_its_height(kind):
+    m = leg(kind, (0.3, -0.2), 0.7, 0.05, Style(sections=12), outward=(1, -1))
+    assert abs(m.bounds[1, 2] - 0.7) < 0.01 and m.bounds[0, 2] > -0.01
+    assert m.volume > 0 and np.hypot(*(m.center_mass[:2] - (0.3, -0.2))) < 0.08
+    top = m.vertices[m.vertices[:, 2] > 0.69]
+    np.testing.assert_allclose(top[:, :2].mean(0), (0.3, -0.2), atol=0.02)
+    assert place(leg(kind, (0, 0), 1, 0.1, Style()), (0, 0, 0), axis=0).volume > 0

@@ -1,0 +1,87 @@
+"""Training augmentation for what a robot's object frame and depth camera get wrong.
+
+Meshes (a new one per training episode):
+- `yaw`: the object turned by a random yaw about z, its box re-fitted (a detector's axis-aligned
+  box in a frame of unknown heading);
+- `frame_error`: the box's centre off by up to that fraction of the object's size, in a random
+  direction, and its size wrong by up to that fraction (as camera_robustness applies them);
+  then cropped to the box plus `box_margin`, as the recognizer's reprojection crops;
+- `floor_cut`: up to that fraction of the object's bottom cut away (a support plane cut too
+  high leaves a ragged bottom).
+Images: `dropout`: up to that fraction of pixels missing (drawn per image), plus pixels on depth
+edges dropped at the same rate (flying-pixel removal); missing pixels read as misses (255).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from .meshes import normalise
+
+MISS = 255.0
+
+
+@dataclass
+class Augment:
+    yaw: bool = False
+    frame_error: float = 0.0
+    floor_cut: float = 0.0
+    dropout: float = 0.0
+    box_margin: float = 0.1
+
+    def __post_init__(self):
+        for name in ("frame_error", "floor_cut", "dropout"):
+            value = getattr(self, name)
+            if not 0 <= value < 0.5:
+                raise ValueError(f"augmentation {name} must lie in [0, 0.5), got {value}")
+
+    @property
+    def meshes(self):
+        return self.yaw or self.frame_error > 0 or self.floor_cut > 0
+
+    def transform(self, vertices, rng):
+        """The mesh's vertices in the frame a robot would give (turned, then off in centre and
+        size), and the lower corner of the crop box (its bottom raised by the floor cut)."""
+        v = np.asarray(vertices, dtype=np.float64)
+        if self.yaw:
+            a = rng.uniform(0, 2 * np.pi)
+            c, s = np.cos(a), np.sin(a)
+            v = normalise(v @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]))
+        if self.frame_error > 0:
+            d = rng.standard_normal(3)
+            off = rng.uniform(0, self.frame_error) * d / np.linalg.norm(d)
+            believed = 1 + rng.uniform(-self.frame_error, self.frame_error)
+            v = (v - off) / believed  # the object seen in the detector's (wrong) unit box
+        lo = np.full(3, -0.5 - self.box_margin)
+        if self.floor_cut > 0:
+            lo[2] = max(lo[2], v[:, 2].min() + rng.uniform(0, self.floor_cut) * np.ptp(v[:, 2]))
+        return v, lo
+
+    def camera(self, vertices, faces, config, rng):
+        """A DepthCamera around one augmented copy of a normalised mesh, cropped like the
+        recognizer's reprojection crops (hits outside the box are misses, as the points that
+        the reprojection drops leave empty pixels)."""
+        from .depth_layer import DepthCamera
+        v, lo = self.transform(vertices, rng)
+        cam = DepthCamera(v, faces, config)
+        cam.crop = (lo.astype(np.float32), np.full(3, 0.5 + self.box_margin, np.float32))
+        return cam
+
+    def images(self, depth: torch.Tensor, generator: torch.Generator | None = None):
+        """Drop pixels of normalised depth images (..., H, W): missing ones read as misses."""
+        if self.dropout <= 0:
+            return depth
+        shape = depth.shape
+        flat = depth.reshape(-1, *shape[-2:])
+        rate = torch.rand(len(flat), 1, 1, generator=generator) * self.dropout
+        drop = torch.rand(flat.shape, generator=generator) < rate
+        d = flat.detach()
+        jump = torch.zeros_like(drop)  # a depth edge: a neighbour more than 5 units away
+        jump[:, 1:, :] |= (d[:, 1:, :] - d[:, :-1, :]).abs() > 5
+        jump[:, :-1, :] |= (d[:, 1:, :] - d[:, :-1, :]).abs() > 5
+        jump[:, :, 1:] |= (d[:, :, 1:] - d[:, :, :-1]).abs() > 5
+        jump[:, :, :-1] |= (d[:, :, 1:] - d[:, :, :-1]).abs() > 5
+        drop |= jump & (torch.rand(flat.shape, generator=generator) < 2 * rate)
+        return torch.where(drop.to(depth.device), torch.full_like(flat, MISS), flat).reshape(shape)

@@ -1,0 +1,95 @@
+import math
+
+import numpy as np
+import pytest
+import torch
+import trimesh
+
+from active_recognition import geometry
+from active_recognition.augment import MISS, Augment
+from active_recognition.depth_layer import CameraConfig, DepthCamera
+from active_recognition.train import TrainConfig, train
+
+from test_training import TINY, cache, weights  # noqa: F401  (the cache fixture)
+
+
+def long_box():
+    m = trimesh.creation.box(extents=(1.0, 0.2, 0.2))
+    return np.asarray(m.vertices), np.asarray(m.faces)
+
+
+def test_yaw_turns_the_object_and_refits_its_box():
+    v, _ = long_box()
+    rng = np.random.default_rng(5)
+    a = np.random.default_rng(5).uniform(0, 2 * np.pi)  # the angle transform will draw
+    t, lo = Augment(yaw=True).transform(v, rng)
+    c, s = abs(math.cos(a)), abs(math.sin(a))
+    ext = np.array([c + 0.2 * s, s + 0.2 * c, 0.2])  # the turned box's bounds, before refitting
+    np.testing.assert_allclose(np.ptp(t, 0), ext / ext.max(), atol=1e-9)
+    np.testing.assert_allclose(t.max(0) + t.min(0), 0, atol=1e-9)
+    np.testing.assert_allclose(lo, -0.6)
+
+
+def test_frame_error_moves_and_scales_within_its_bounds():
+    v, _ = long_box()
+    for seed in range(20):
+        t, _ = Augment(frame_error=0.15).transform(v, np.random.default_rng(seed))
+        scale = np.ptp(t, 0)[0]  # the true size seen in a box believed 1 +- 15 %
+        assert 1 / 1.15 - 1e-9 <= scale <= 1 / 0.85 + 1e-9
+        centre = (t.max(0) + t.min(0)) / 2 * scale ** -1  # back in true units
+        assert np.linalg.norm(centre) <= 0.15 + 1e-9
+
+
+def test_the_crop_keeps_exactly_the_hits_inside_the_box():
+    v, f = long_box()
+    v = v * [1.4, 1, 1] + [0.2, 0, 0]  # sticks out of the +x side
+    cfg = CameraConfig(48, 48)
+    plain, cropped = DepthCamera(v, f, cfg), DepthCamera(v, f, cfg)
+    cropped.crop = (np.full(3, -0.6, np.float32), np.full(3, 0.6, np.float32))
+    views = np.array([[1.2, 0.4], [1.57, -1.57], [0.3, 2.0]])
+    h = plain.trace(views)
+    dirs = np.einsum("bij,nj->bni", h.rotations, plain.local_dirs)
+    with np.errstate(invalid="ignore"):
+        pts = h.origins[:, None] + dirs * h.distance[..., None]
+    inside = h.hit & np.all(np.abs(pts) <= 0.6, axis=-1)
+    assert (h.hit & ~inside).sum() > 20  # the test sees a real cut
+    np.testing.assert_array_equal(cropped.trace(views).hit, inside)
+
+
+def test_the_floor_cut_raises_the_bottom_of_the_crop_only():
+    v, _ = long_box()
+    lo = [Augment(floor_cut=0.1).transform(v, np.random.default_rng(s))[1] for s in range(30)]
+    z = np.array([x[2] for x in lo])
+    assert np.all(z >= -0.1 - 1e-9) and np.all(z <= -0.1 + 0.1 * 0.2 + 1e-9) and np.ptp(z) > 0
+    np.testing.assert_allclose(np.array(lo)[:, :2], -0.6)
+
+
+def test_dropout_only_turns_pixels_into_misses_at_the_rate_asked():
+    torch.manual_seed(0)
+    depth = torch.full((400, 32, 32), MISS)
+    depth[:, 4:28, 4:28] = 100.0  # a flat face: edges only on its rim
+    out = Augment(dropout=0.3).images(depth)
+    changed = out != depth
+    assert torch.all(out[changed] == MISS) and torch.all(out[depth == MISS] == MISS)
+    interior = changed[:, 6:26, 6:26].float().mean().item()
+    assert abs(interior - 0.15) < 0.01  # a rate drawn uniformly in [0, 0.3] per image
+    rim = changed[:, 4, 6:26].float().mean().item()  # edge pixels: dropped twice as often
+    assert rim > interior * 1.6
+    assert torch.equal(Augment().images(depth), depth)
+
+
+def test_bad_augmentation_is_refused_by_name():
+    with pytest.raises(ValueError, match="frame_error"):
+        TrainConfig(frame_error=0.7)
+    with pytest.raises(ValueError, match="dropout"):
+        Augment(dropout=-0.1)
+
+
+def test_training_with_every_augmentation_runs_and_learns_finite_weights(tmp_path):
+    cfg = TrainConfig(**{**TINY, "out": str(tmp_path / "run"), "yaw": True, "frame_error": 0.15,
+                         "floor_cut": 0.03, "dropout": 0.3})
+    train(cfg, progress=False)
+    w = weights(tmp_path / "run" / "final.pt")
+    assert all(torch.isfinite(t).all() for t in w.values())
+    fresh = weights(tmp_path / "run" / "pretrained.pt")
+    assert any(not torch.equal(w[k], fresh[k]) for k in w)  # the joint stage trained
