@@ -74,7 +74,9 @@ def cmd_dataset(args):
                    row_labels=labels, titles=titles * len(labels))
         print(f"wrote {args.contact_sheet}")
     elif args.contact_sheet:
-        ds, rng = splits["test"], np.random.default_rng(args.seed)
+        ds = splits["test"] if args.sheet_split == "test" else open_dataset(
+            args.name, args.root, args.sheet_split, cache_dir=cache)
+        rng = np.random.default_rng(args.seed)
         views = geometry_views(args.views_per_object)
         images, labels = [], []
         for label, c in enumerate(classes):
@@ -103,6 +105,8 @@ def add_dataset(sub):
                    help="where parsed meshes are cached (default ~/.cache/active_recognition)")
     p.add_argument("--no-cache", action="store_true", help="do not read or write the cache")
     p.add_argument("--contact-sheet", default=None, help="write a PNG grid of test-split depth images")
+    p.add_argument("--sheet-split", default="test", choices=("test", "cross"),
+                   help="the split on the sheet (cross: a generated benchmark's held-out styles)")
     p.add_argument("--objects-per-class", type=int, default=2, help="objects per class on the sheet")
     p.add_argument("--views-per-object", type=int, default=3, help="views per object on the sheet")
     p.add_argument("--seed", type=int, default=0, help="which objects go on the sheet")
@@ -287,7 +291,8 @@ def add_evaluate(sub):
                    help=f"comma-separated, from {','.join(PLANNERS)}")
     p.add_argument("--dataset", choices=NAMES, default="procedural", help="dataset layout")
     p.add_argument("--root", default=None, help="dataset root folder")
-    p.add_argument("--split", default="test", choices=("train", "test"), help="which split")
+    p.add_argument("--split", default="test", choices=("train", "test", "cross"),
+                   help="which split (cross: a generated benchmark's held-out styles)")
     p.add_argument("--objects", type=int, default=0, help="seeded sample of objects (0: all)")
     p.add_argument("--starts", type=int, default=1, help="initial views per object (of the 50)")
     p.add_argument("--steps", type=int, default=10, help="views per episode")

@@ -187,6 +187,10 @@ def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
 
 RESULTS_HEADER = """# Results on the procedural benchmark
 
+The planner tables below were measured with the previous generator (boxes and cylinders) and the
+previous procedural.pt, before issue #12's furniture-like shapes; the sections at the end
+("Old and new shipped model", camera robustness) are measured with the current ones.
+
 Written by `python benchmarks/planners.py` (the whole procedural test split, 500 objects, 3
 seeded initial views each of the 50, the same for every planner: 1,500 episodes). The models and
 metrics it reads (the shipped ones by default):
@@ -326,6 +330,7 @@ def write_results_page(path, results):
         [f"active-recognition train --config config/ablation_{a}.yaml" for a in ABLATIONS]
         + ["python benchmarks/runs_table.py ablations " + " ".join(
             f"{a}=runs/ablation_{a}" for a in ABLATIONS)])
+    parts += old_vs_new_section(results / "old_vs_new.json")
     parts += camera_section(results / "camera_robustness.json")
     parts += twins_section(results / "twins")
     parts += study_section(
@@ -374,13 +379,37 @@ def headroom_section(path):
             f"{100 * (d['acc_3_best'] - d['acc_3_best_fixed']):+.1f} points."]
 
 
+def old_vs_new_section(path):
+    """The shipped model before and after the furniture-like generator (benchmarks/old_vs_new.py)."""
+    if not Path(path).is_file():
+        return []
+    d = json.loads(Path(path).read_text())
+    splits = list(dict.fromkeys(k.split(", ")[1] for k in d))
+    rows = [[f"{m} model, {p}"] + [f"{100 * d[f'{m} model, {sp}, {p}']:.1f}" for sp in splits]
+            for m in ("old", "new") for p in ("learned", "straight")]
+    return ["", "## Old and new shipped model (`benchmarks/old_vs_new.py`)", "",
+            "Accuracy (%) after 3 views, the same seeded objects and starts for both models: the "
+            "old generator's test split (boxes and cylinders), the new generator's test split "
+            "(its training styles) and its cross split (the held-out styles). The old model was "
+            "trained on canonical frames and clean images, the new one with the yaw, frame-error, "
+            "floor-cut and dropout augmentation (config/train_procedural.yaml).", "",
+            table(rows, ["model, planner"] + splits),
+            "", "![contact sheet](contact_sheet.png) ![held-out styles](cross_contact_sheet.png)"]
+
+
 def camera_section(path):
     """The shipped model through real-looking cameras (benchmarks/camera_robustness.py)."""
     if not Path(path).is_file():
         return []
     d = json.loads(Path(path).read_text())
     clean = d["rows"]["clean"]["acc_3"]
+
+    def target(name):  # points below clean allowed (issues #11, #12): held-out styles 5, else 3
+        return 5 if name.startswith("cross-style") else 3
+
     rows = [[name, f"{100 * r['acc_3']:.1f}", f"{100 * (r['acc_3'] - clean):+.1f}",
+             "" if name == "clean" else f"-{target(name)}: "
+             + ("met" if 100 * (clean - r["acc_3"]) <= target(name) else "missed"),
              f"{100 * r['acc_stop']:.1f}", f"{r['mean_views']:.2f}"] for name, r in d["rows"].items()]
     return ["", "## Through a real-looking camera (`benchmarks/camera_robustness.py`)", "",
             f"The shipped model ({Path(d['checkpoint']).name}) on {d['objects']} procedural test "
@@ -390,7 +419,10 @@ def camera_section(path):
             "Accuracy after 3 views is the answer after the third view, or at the stop if the "
             "episode stopped sooner. One standard error is about "
             f"{100 * d['rows']['clean']['stderr_3']:.1f} points.", "",
-            table(rows, ["camera", "acc. after 3 views %", "vs clean", "acc. at stop %",
+            "`yaw unknown` turns every object by a random yaw (its box re-fitted, as a "
+            "detector's would be); `cross-style` runs the held-out styles of every class (the "
+            "`cross` split), a proxy for real objects.", "",
+            table(rows, ["camera", "acc. after 3 views %", "vs clean", "target", "acc. at stop %",
                          "mean views"])]
 
 

@@ -15,7 +15,7 @@ import numpy as np
 from . import geometry
 from .datasets import default_cache_dir, open_dataset
 from .depth_layer import CameraConfig, DepthCamera
-from .meshes import load_mesh
+from .meshes import load_mesh, normalise
 
 NOISE = ("none", "kinect")
 ENCODINGS = ("32FC1", "16UC1")
@@ -114,10 +114,13 @@ def edge_dropout(z, degrees, focal):
 
 
 class SimulatedCamera:
-    def __init__(self, sensor: SensorConfig = SensorConfig(), seed=0, offset=(0.0, 0.0, 0.0)):
+    def __init__(self, sensor: SensorConfig = SensorConfig(), seed=0, offset=(0.0, 0.0, 0.0),
+                 yaw=0.0):
         """offset (metres): where the object's centre really is in the frame the poses use
-        (a detector's error); the recognizer is not told."""
+        (a detector's error); yaw (radians): the object turned about z, its box re-fitted (a
+        frame of unknown heading). The recognizer is told neither."""
         self.sensor, self.offset = sensor, np.asarray(offset, dtype=np.float64)
+        self.yaw = float(yaw)
         self.k = sensor.intrinsics()
         self.rng = np.random.default_rng(seed)
         self.camera, self.description, self.floor_z = None, None, None
@@ -125,7 +128,11 @@ class SimulatedCamera:
     def load(self, **source):
         """Switch to another object; on failure the previous one stays (the error propagates)."""
         verts, faces, description = load_object(**source)
-        verts = np.asarray(verts, np.float64) * self.sensor.object_size + self.offset
+        verts = np.asarray(verts, np.float64)
+        if self.yaw:
+            c, s = np.cos(self.yaw), np.sin(self.yaw)
+            verts = normalise(verts @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]))
+        verts = verts * self.sensor.object_size + self.offset
         config = CameraConfig(self.k.height, self.k.width)
         self.camera = DepthCamera(verts, faces, config, intrinsics=self.k)
         self.description, self.floor_z = description, float(verts[:, 2].min())

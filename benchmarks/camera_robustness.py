@@ -44,26 +44,34 @@ ROWS = {
     "object_size 15 % too large": ({}, 1.15, 0.0),
     "object_size 15 % too small": ({}, 0.85, 0.0),
     "realsense": ("realsense", 1.0, 0.0),
+    "yaw unknown": ({}, 1.0, 0.0),
+    "cross-style (held-out styles)": ({}, 1.0, 0.0),
 }
-LOOSE = ("object frame 15 % off centre", "object_size 15 % too large", "object_size 15 % too small")
+# rows that change the object, not the camera: a random heading, or the held-out styles
+OBJECTS = {"yaw unknown": {"yaw": True}, "cross-style (held-out styles)": {"split": "cross"}}
+FRAME = ("object frame 5 % off centre", "object frame 15 % off centre",
+         "object_size 15 % too large", "object_size 15 % too small")
 
 
 def run_row(name, objects, seed, checkpoint=None):
     """One row: every object once, from the same start and with the same draws as every row."""
     camera, believed_size, off = ROWS[name]
+    split, yaw = OBJECTS.get(name, {}).get("split", "test"), OBJECTS.get(name, {}).get("yaw")
     sensor = sensor_config("realsense") if camera == "realsense" else sensor_config(**camera)
     k = sensor.intrinsics()
-    test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
+    test = open_dataset("procedural", split=split, cache_dir=default_cache_dir())
     rng = np.random.default_rng(seed)
     starts = geometry.fibonacci_views(50)[rng.integers(50, size=len(test))]
     directions = rng.standard_normal((len(test), 3))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    yaws = rng.uniform(0, 2 * np.pi, len(test)) if yaw else np.zeros(len(test))
     core = ActiveRecognizer(checkpoint, EpisodeConfig(10, 0.1), seed=seed,
                             sensing=SensingConfig(object_size=believed_size))
     hits3, hits_stop, views = [], [], []
     for i in objects:
-        sim = SimulatedCamera(sensor, seed=seed * 100003 + int(i), offset=off * directions[i])
-        sim.load(dataset="procedural", split="test", index=int(i))
+        sim = SimulatedCamera(sensor, seed=seed * 100003 + int(i), offset=off * directions[i],
+                              yaw=yaws[i])
+        sim.load(dataset="procedural", split=split, index=int(i))
         truth = test.classes[test.items[i][1]]
         core.reset(view=starts[i])
         labels = []

@@ -4,7 +4,8 @@ privileged oracle; each with its own recurrent classifier and with one shared mu
 classifier, the standard error of every 3-view figure, and the wall-clock for `learned` to reach
 the best accuracy `reinforce` reaches, over reinforce's time.
 Writes the report under docs/results/ (docs/results/<dataset>/ for other datasets than
-procedural) and re-renders docs/RESULTS.md. Last line is JSON."""
+procedural, docs/results/<dataset>-cross/ for `--split cross`, the held-out styles) and
+re-renders docs/RESULTS.md. Last line is JSON."""
 import argparse
 from pathlib import Path
 
@@ -49,6 +50,8 @@ def main():
                     help="a planner's own model (default: the shipped ones)")
     ap.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
     ap.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
+    ap.add_argument("--split", default="test", choices=("test", "cross"),
+                    help="test, or cross: the held-out styles (a proxy for real objects)")
     ap.add_argument("--objects", type=int, default=0, help="0: the whole test split")
     ap.add_argument("--starts", type=int, default=3, help="seeded initial views per object (>= 3)")
     ap.add_argument("--out", default=None, help="report folder (default docs/results[/DATASET])")
@@ -57,22 +60,27 @@ def main():
                          "dataset's shipped model, for the recognizer's planner 'auto'")
     args = ap.parse_args()
     results_dir = ROOT / "docs/results"
+    if args.ship and args.split != "test":
+        ap.error("--ship measures the default planner on the test split; leave out --split")
+    folder = args.dataset + ("-cross" if args.split == "cross" else "")
     out = Path(args.out) if args.out else (
-        results_dir if args.dataset == "procedural" else results_dir / args.dataset)
+        results_dir if folder == "procedural" else results_dir / folder)
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
         if not sep:
             ap.error(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
         own[name] = path
-    metrics = {k: getattr(args, f"{k}_metrics") or str(out / f"{k}_metrics.csv")
+    runs = results_dir if args.dataset == "procedural" else results_dir / args.dataset
+    metrics = {k: getattr(args, f"{k}_metrics") or str(runs / f"{k}_metrics.csv")
                for k in ("learned", "reinforce")}
     for path in metrics.values():
         if not Path(path).is_file():
             ap.error(f"{path}: no such metrics file (train the run first, or pass --*-metrics)")
     cfg = EvalConfig(checkpoint=args.checkpoint or str(MODELS / DEFAULT_CHECKPOINT[args.dataset]),
                      planner_checkpoints=own, planners=PLANNERS[args.dataset],
-                     dataset=args.dataset, objects=args.objects, starts=args.starts, out=str(out))
+                     dataset=args.dataset, split=args.split, objects=args.objects,
+                     starts=args.starts, out=str(out))
     results = evaluate(cfg)
     s = summary(results)
     t = training_time(read_metrics(metrics["learned"]), read_metrics(metrics["reinforce"]),

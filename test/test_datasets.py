@@ -5,7 +5,7 @@ import pytest
 import trimesh
 
 from active_recognition.datasets import open_dataset, procedural
-from active_recognition.datasets.furniture import HELD_OUT_STYLES, STYLES, TRAIN_STYLES
+from active_recognition.datasets.furniture import FACTORS, styles
 from active_recognition.datasets.parts import Style, leg, place, slab
 from active_recognition.datasets.procedural import CLASSES, make_shape
 from active_recognition.depth_layer import CameraConfig, DepthCamera
@@ -121,13 +121,13 @@ def test_procedural_is_deterministic_and_seeds_differ():
     assert a[0].shape != c[0].shape or not np.allclose(a[0], c[0])
 
 
-@pytest.mark.parametrize("style", range(STYLES))
-def test_procedural_styles_render_with_hits_from_every_side(style):
+@pytest.mark.parametrize("label", range(len(CLASSES)))
+def test_procedural_styles_render_with_hits_from_every_side(label):
     cfg = CameraConfig(32, 32)
     views = np.array([[0.2, 0.0], [1.57, 0.0], [1.57, 1.57], [2.9, 0.0]])
-    for label in range(len(CLASSES)):
-        for seed in range(3):
-            v, f = make_shape(label, seed, styles=(style,))
+    for style in styles(CLASSES[label]) + styles(CLASSES[label], held_out=True):
+        for seed in range(2):
+            v, f = make_shape(label, seed, style=style)
             assert np.all(v >= -0.5 - 1e-6) and np.all(v <= 0.5 + 1e-6)
             assert np.isclose((v.max(0) - v.min(0)).max(), 1.0, atol=1e-6)
             depth = DepthCamera(v, f, cfg).render(views)
@@ -144,27 +144,34 @@ def test_procedural_split_cache_round_trips(tmp_path):
     assert not {p for p, _ in train.items} & {p for p, _ in ds.items}
 
 
-def drawn_style(ds, i, make):
-    """The style a generated item was built in: the one whose single-style build matches it
-    (the style is the seed's first draw, so the rest of the draws agree)."""
+def drawn_style(ds, i):
+    """The style a generated item was built in: the one whose forced build matches it (the
+    style draw is made either way, so the rest of the draws agree)."""
     label, seed = ds.items[i][1], int(ds.items[i][0].split("/")[1])
+    na, nb = FACTORS[CLASSES[label]]
     v = ds.mesh(i)[0]
-    found = [s for s in range(STYLES) if np.array_equal(make(label, seed, styles=(s,))[0], v)]
+    found = [(a, b) for a in range(na) for b in range(nb)
+             if np.array_equal(make_shape(label, seed, style=(a, b))[0], v)]
     assert len(found) == 1, found
-    return found[0]
+    return label, found[0]
 
 
-@pytest.mark.parametrize("name", ["procedural", "twins"])
-def test_the_cross_style_split_holds_only_the_held_out_styles(name):
-    from active_recognition.datasets.twins import make_shape as twin_shape
-    make = make_shape if name == "procedural" else twin_shape
-    train, cross = (open_dataset(name, split=s, per_class=3) for s in ("train", "cross"))
-    if name == "procedural":  # twins draw their dressing from two sets, not one style each
-        assert {drawn_style(train, i, make) for i in range(len(train))} <= set(TRAIN_STYLES)
-        assert {drawn_style(cross, i, make) for i in range(len(cross))} <= set(HELD_OUT_STYLES)
-        assert len({drawn_style(cross, i, make) for i in range(len(cross))}) == 2
-    assert list(cross.class_counts()) == [3] * len(cross.classes)
+def test_the_cross_style_split_holds_only_the_held_out_combinations():
+    train, cross = (open_dataset("procedural", split=s, per_class=4) for s in ("train", "cross"))
+    for ds, held_out in ((train, False), (cross, True)):
+        for i in range(len(ds)):
+            label, style = drawn_style(ds, i)
+            assert style in styles(CLASSES[label], held_out)
+    assert list(cross.class_counts()) == [4] * len(cross.classes)
     assert not {p for p, _ in train.items} & {p for p, _ in cross.items}
+
+
+@pytest.mark.parametrize("name", CLASSES)
+def test_every_option_of_every_factor_is_trained_on(name):
+    train, held = styles(name), styles(name, held_out=True)
+    na, nb = FACTORS[name]
+    assert held and not set(train) & set(held) and len(train) + len(held) == na * nb
+    assert {a for a, _ in train} == set(range(na)) and {b for _, b in train} == set(range(nb))
 
 
 @pytest.mark.parametrize("edge", ["bevel", "round"])

@@ -1,9 +1,10 @@
 """An embedded benchmark: 10 furniture classes named after ModelNet10's (see `furniture`).
 
-Every class has four styles built from trimesh's primitives and operations; the proportions come
-from real furniture's ranges, and edges, legs and mesh resolution vary within a style. Splits:
-`train` and `test` hold the training styles, `cross` the two held-out styles of every class (the
-cross-style test split: a proxy for real objects). Shapes are upright (+Z) and face -Y, like
+Every class has styles (combinations of two factors, e.g. a table's top and support) built from
+trimesh's primitives and operations; the proportions come from real furniture's ranges, and
+edges, legs and mesh resolution vary within a style. Splits: `train` and `test` hold the
+training styles, `cross` the held-out combinations of every class (the cross-style test split: a
+proxy for real objects). Shapes are upright (+Z) and face -Y, like
 ModelNet; everything is deterministic in the seed.
 """
 from __future__ import annotations
@@ -12,15 +13,19 @@ import numpy as np
 import trimesh
 
 from ..meshes import normalise
-from .furniture import CLASSES, GENERATORS, HELD_OUT_STYLES, TRAIN_STYLES
+from .furniture import CLASSES, GENERATORS, styles
 from .parts import Style
 
-def make_shape(label: int, seed: int, styles=TRAIN_STYLES):
-    """Build one shape of class `label` from `seed`, in one of `styles` (drawn from the seed):
-    (vertices (V, 3) in [-0.5, 0.5]^3, faces)."""
+def make_shape(label: int, seed: int, held_out=False, style=None):
+    """Build one shape of class `label` from `seed`: (vertices (V, 3) in [-0.5, 0.5]^3, faces).
+    Its style is drawn from the training styles of the class (`held_out`: the held-out ones), or
+    forced to `style` (a, b); the draw is made either way, so the rest of the shape agrees."""
     rng = np.random.default_rng(seed)
-    style = int(styles[int(rng.random() * len(styles))])  # always one draw, whatever the set
-    mesh = trimesh.util.concatenate(GENERATORS[CLASSES[label]](rng, style, Style.draw(rng)))
+    name = CLASSES[label]
+    options = styles(name, held_out)
+    pick = options[int(rng.random() * len(options))]  # drawn even when forced
+    pick = pick if style is None else tuple(style)
+    mesh = trimesh.util.concatenate(GENERATORS[name](rng, *pick, Style.draw(rng)))
     return normalise(mesh.vertices).astype(np.float32), np.asarray(mesh.faces, dtype=np.int32)
 
 
@@ -32,7 +37,7 @@ def shape_seeds(seed: int, per_class: int, split: str, classes=len(CLASSES)):
     return [(i // per_class, int(s)) for i, s in enumerate(seeds)]
 
 
-VERSION = 3  # bump when a generator changes, so caches are rebuilt
+VERSION = 4  # bump when a generator changes, so caches are rebuilt
 PER_CLASS = {"train": 200, "test": 50, "cross": 50}
 SPLITS = tuple(PER_CLASS)  # a generated benchmark also has the cross-style test split
 
@@ -73,6 +78,6 @@ def generated(name, classes, make, version, split="train", cache_dir=None, seed=
 def procedural(split="train", cache_dir=None, seed=0, per_class=None):
     """The procedural benchmark as a ShapeDataset (see `generated`); `cross` holds the held-out
     styles."""
-    styles = HELD_OUT_STYLES if split == "cross" else TRAIN_STYLES
-    return generated("procedural", CLASSES, lambda label, s: make_shape(label, s, styles), VERSION,
-                     split, cache_dir, seed, per_class)
+    held_out = split == "cross"
+    return generated("procedural", CLASSES, lambda label, s: make_shape(label, s, held_out),
+                     VERSION, split, cache_dir, seed, per_class)
