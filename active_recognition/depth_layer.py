@@ -44,6 +44,7 @@ _DEVICE = rtcore.EmbreeDevice()
 @dataclass(frozen=True)
 class CameraConfig:
     """Intrinsics and the viewing sphere. fov is horizontal, in radians; None = holds the cube."""
+
     height: int = 64
     width: int = 64
     radius: float = 1.0
@@ -90,6 +91,7 @@ def normalise_depth(z, config: CameraConfig):
 @dataclass
 class Hits:
     """The hit table of one batch: per view and pixel, the ray and what it hit."""
+
     origins: np.ndarray     # (B, 3) camera positions
     rotations: np.ndarray   # (B, 3, 3) view rotations (t = 0 frame -> world)
     distance: np.ndarray    # (B, N) ray length to the hit, inf on a miss

@@ -191,7 +191,7 @@ def summary(results):
         return {str(k): round(float(acc[k - 1]), 4) for k in (3, 6, 9) if k <= len(acc)}
     s = {"acc": {n: at(ro) for n, ro in results.items()},
          "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
-         "early_stop": {n: dict(zip(("accuracy", "mean_views"), map(lambda v: round(v, 4), ro.early_stop())))
+         "early_stop": {n: dict(zip(("accuracy", "mean_views"), (round(v, 4) for v in ro.early_stop())))
                         for n, ro in results.items()}}
     s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
     if "fixed" in results and results["fixed"].path is not None:

@@ -173,6 +173,7 @@ def pixel_grid(height, width, fov, focal=1.0):
 @dataclass(frozen=True)
 class Intrinsics:
     """A rectified pinhole camera: image size and the K of its CameraInfo, in pixels."""
+
     width: int
     height: int
     fx: float

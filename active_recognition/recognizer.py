@@ -33,8 +33,8 @@ import torch
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig
-from .reprojection import auto_standoff, reproject
 from .policies import PLANNERS, make_planner
+from .reprojection import auto_standoff, reproject
 
 NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
 
@@ -176,4 +176,3 @@ class ActiveRecognizer:
 
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])
-

@@ -62,8 +62,9 @@ class SensorConfig:
     noise: str = "none"         # none | kinect
     noise_scale: float = 1.0    # multiplies the noise's sigma
     dropout: float = 0.0        # fraction of pixels with no return, at random
-    edge_dropout: float = 0.0   # degrees: drop pixels beside a depth jump steeper than a surface
-                                # seen this far from face-on (flying pixels); 0 = off
+    # edge_dropout, degrees: drop pixels beside a depth jump steeper than a surface seen this far
+    # from face-on (flying pixels); 0 = off
+    edge_dropout: float = 0.0
     min_range: float = 0.0      # metres; no return nearer
     max_range: float = 0.0      # metres; no return farther; 0 = unlimited
     encoding: str = "32FC1"     # 16UC1 = whole millimetres

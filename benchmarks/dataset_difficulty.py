@@ -83,10 +83,10 @@ def main():
     acc3_best = best_subset_accuracy(net, feats, labels, 3)
     print(f"fixed path: views {np.round(fixed, 3).tolist()} (train accuracy {train_acc:.3f})")
     result = {"dataset": args.dataset, "acc_1_view": acc1, "acc_3_random": acc3_random,
-          "acc_3_best": acc3_best, "acc_3_best_fixed": acc3_fixed, "acc_9_views": acc9,
-          "headroom_best_vs_random": acc3_best - acc3_random,
-          "headroom_best_vs_fixed": acc3_best - acc3_fixed, "test_objects": len(idx),
-          "seconds": round(time.perf_counter() - t0, 1)}
+              "acc_3_best": acc3_best, "acc_3_best_fixed": acc3_fixed, "acc_9_views": acc9,
+              "headroom_best_vs_random": acc3_best - acc3_random,
+              "headroom_best_vs_fixed": acc3_best - acc3_fixed, "test_objects": len(idx),
+              "seconds": round(time.perf_counter() - t0, 1)}
     result = {k: round(v, 4) if isinstance(v, float) else v for k, v in result.items()}
     if args.out:
         write_json(Path(args.out), result)

@@ -26,7 +26,7 @@ from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
 from active_recognition import geometry
-from active_recognition.depth_layer import _DEVICE, CameraConfig, DepthCamera, trace_all
+from active_recognition.depth_layer import CameraConfig, DepthCamera, _DEVICE, trace_all
 from active_recognition.meshes import normalise
 
 

@@ -78,6 +78,8 @@ def header_problem(path):
     return None
 
 
+@pytest.mark.copyright
+@pytest.mark.linter
 def test_every_source_file_has_the_apache_header():
     checked = list(sources(ROOT))
     assert any(p.name == "setup.py" for p in checked) and any(p.name == "run" for p in checked)

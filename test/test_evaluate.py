@@ -69,6 +69,7 @@ def test_information_gain_sums_to_the_entropy_drop(results):
 def test_oracle_is_never_worse_than_random_on_average(results):
     res = results[0]
     # the oracle minimises the next entropy; on average its confidence in its answer is higher
+
     def mean_entropy(ro):
         p = ro.probs[:, 1:]
         return (-(p * np.log(np.clip(p, 1e-12, None))).sum(-1)).mean()

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from active_recognition import geometry
-from active_recognition.depth_layer import MISS, CameraConfig, DepthCamera
+from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.reprojection import auto_standoff, fill_holes, reproject, support_height
 from active_recognition.simulated_camera import (SensorConfig, SimulatedCamera, kinect_sigma,

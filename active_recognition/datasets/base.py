@@ -54,6 +54,7 @@ def save_npz_atomic(path: Path, **arrays):
 @dataclass
 class ShapeDataset:
     """Shapes of one split. `items` are (source, label); `mesh(i)` gives normalised arrays."""
+
     name: str
     classes: list
     split: str

@@ -15,8 +15,8 @@
 """A plain folder: root/<class>/*.<ext> for any mesh format, deterministic split."""
 from __future__ import annotations
 
-from ..meshes import SUFFIXES
 from .base import ShapeDataset, check_root, check_split, in_split
+from ..meshes import SUFFIXES
 
 
 def folder(root, split="train", cache_dir=None, test_fraction=0.2):

@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from ..meshes import normalise
 from .procedural import box, cylinder
+from ..meshes import normalise
 
 # (base, axis, sign): the face whose niche tells the pair apart
 PAIRS = (("nightstand", 1, -1),   # front

@@ -32,8 +32,8 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.nodes import declare_parameters, run_node
 from active_recognition.episode import EpisodeConfig
+from active_recognition.nodes import declare_parameters, run_node
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
