@@ -42,7 +42,7 @@ setup(
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
                       "tqdm", "matplotlib", "pyyaml"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
-    extras_require={"ros": ros, "test": ["pytest>=7"] + lint},
+    extras_require={"ros": ros, "test": ["pytest>=7", "rosdep"] + lint},
     zip_safe=True,
     maintainer="active_recognition maintainers",
     maintainer_email="maintainers@active-recognition.invalid",
