@@ -18,7 +18,8 @@ from setuptools import find_packages, setup
 
 package_name = "active_recognition"
 ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry-msgs",
-       "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs"]
+       "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs",
+       "mcap", "mcap-ros2-support"]  # recording (demo --record, the recognizer's `record`)
 # ROS 2 Jazzy's linters with the flake8 and plugin versions its platform, Ubuntu 24.04, ships;
 # flake8-import-order 0.18.2 there needs pkg_resources, gone from setuptools 81, so 0.19.2 (same
 # rules) here

@@ -223,7 +223,8 @@ def cmd_demo(args):
                          "or source a ROS 2 install")
     from .nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
-             planner=args.planner, dataset=args.dataset, camera=args.camera)
+             planner=args.planner, dataset=args.dataset, camera=args.camera,
+             record=args.record or "")
 
 
 def add_demo(sub):
@@ -241,6 +242,9 @@ def add_demo(sub):
                    help="simulated camera: the model's own (64x64, 120 degrees), or "
                         "RealSense-like (640x480, fx = fy = 385, Kinect noise, 3 %% dropout, "
                         "flying pixels removed, a floor, 2 degrees of pose error)")
+    p.add_argument("--record", metavar="FILE.mcap", default=None,
+                   help="record every topic of the loop to this MCAP file (ros2 bag play, "
+                        "Foxglove)")
     p.set_defaults(func=cmd_demo)
 
 
