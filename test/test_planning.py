@@ -43,19 +43,33 @@ def face_view(axis, sign, tilt=0.0):
     return theta, phi
 
 
+@pytest.mark.parametrize("held_out", [False, True])
 @pytest.mark.parametrize("pair", range(len(PAIRS)))
-def test_twins_differ_only_where_their_niche_faces(pair):
+def test_twins_differ_only_where_their_niche_faces(pair, held_out):
     """Same seed, same proportions: the two classes of a pair render the same from every view
     more than 75 degrees from the telling face, and differently when looking into the niche."""
     _, axis, sign = PAIRS[pair]
     for seed in (3, 11):
-        a, b = (DepthCamera(*make_shape(2 * pair + k, seed)) for k in (0, 1))
+        a, b = (DepthCamera(*make_shape(2 * pair + k, seed, held_out)) for k in (0, 1))
         far = np.array([v for v in geometry.fibonacci_views(60)
                         if geometry.camera_position(*v)[axis] * sign < math.cos(math.radians(75))])
         np.testing.assert_allclose(a.render(far), b.render(far), atol=0.01)  # of 255
         straight = np.array([face_view(axis, sign)])
         differ = (a.render(straight) != b.render(straight)).sum()
         assert differ >= 20, f"pair {pair}: only {differ} pixels tell the twins apart"
+
+
+def test_twins_cross_split_is_dressed_only_in_the_held_out_styles():
+    from active_recognition.datasets.twins import dressing
+    train = [dressing(np.random.default_rng(s)) for s in range(40)]
+    held = [dressing(np.random.default_rng(s), held_out=True) for s in range(40)]
+    assert {(d.edge, d.leg) for d in train} == {(e, k) for e in ("sharp", "bevel")
+                                                for k in ("square", "round", "tapered")}
+    assert {(d.edge, d.leg) for d in held} == {("round", "turned"), ("round", "splayed")}
+    cross, test = (open_dataset("twins", split=s, per_class=1) for s in ("cross", "test"))
+    assert not {p for p, _ in cross.items} & {p for p, _ in test.items}
+    label, seed = cross.items[0][1], int(cross.items[0][0].split("/")[1])
+    np.testing.assert_array_equal(cross.mesh(0)[0], make_shape(label, seed, held_out=True)[0])
 
 
 def test_twins_dataset_is_generated_deterministically_with_every_class():

@@ -29,7 +29,8 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from .parts import box, cylinder
+from .parts import box, cushion, cylinder, legs4, Style
+from .parts import slab as panel
 from ..meshes import normalise
 
 # (base, axis, sign): the face whose niche tells the pair apart
@@ -104,56 +105,68 @@ def niche_body(rng, center, size, axis, sign, detail):
     return parts
 
 
-def four_legs(rng, w, d, h, inset=0.04):
-    thick = rng.uniform(0.04, 0.07)
-    rnd = rng.random() < 0.5
-    parts = []
-    for sx in (-1, 1):
-        for sy in (-1, 1):
-            c = (sx * (w / 2 - inset), sy * (d / 2 - inset), h / 2)
-            parts.append(cylinder(c, thick / 2, h) if rnd else box(c, (thick, thick, h)))
-    return parts
+def dressing(rng, held_out=False):
+    """The furniture style of a piece (edges, legs, resolution), drawn before its proportions so
+    that both twins of a pair get the same one. Training dressing: sharp or bevelled edges and
+    square, round or tapered legs; held out (the cross split): rounded edges, turned or splayed
+    legs."""
+    st = Style.draw(rng)
+    st.edge = "round" if held_out else ("sharp", "bevel")[rng.integers(2)]
+    kinds = ("turned", "splayed") if held_out else ("square", "round", "tapered")
+    st.leg = kinds[rng.integers(len(kinds))]
+    return st
 
 
-def nightstand(rng, detail):  # a cube-ish cabinet on four legs, niche in front
+def four_legs(rng, w, d, h, st, inset=0.04):
+    return legs4(w, d, h, inset, rng.uniform(0.04, 0.07), st)
+
+
+def top(w, d, z, st):
+    """A top board overhanging the carcass, with the style's edges."""
+    return [panel((0, 0, z + 0.015), (w + 0.04, d + 0.04, 0.03), st)]
+
+
+def nightstand(rng, detail, st):  # a cube-ish cabinet on four legs, niche in front
     w, d, h = rng.uniform(0.5, 0.6), rng.uniform(0.5, 0.6), rng.uniform(0.5, 0.6)
     leg = rng.uniform(0.1, 0.16)
-    return four_legs(rng, w, d, leg) + niche_body(rng, (0, 0, leg + h / 2), (w, d, h), 1, -1, detail)
+    return (four_legs(rng, w, d, leg, st) + top(w, d, leg + h, st)
+            + niche_body(rng, (0, 0, leg + h / 2), (w, d, h), 1, -1, detail))
 
 
-def bookcase(rng, detail):  # tall and narrow on a plinth, niche at the back
+def bookcase(rng, detail, st):  # tall and narrow on a plinth, niche at the back
     w, d, h = rng.uniform(0.65, 0.75), rng.uniform(0.6, 0.7), rng.uniform(0.8, 0.9)
     plinth = rng.uniform(0.05, 0.1)
-    return ([box((0, 0, plinth / 2), (w * 0.9, d * 0.9, plinth))]
+    return ([panel((0, 0, plinth / 2), (w * 0.9, d * 0.9, plinth), st)] + top(w, d, plinth + h, st)
             + niche_body(rng, (0, 0, plinth + h / 2), (w, d, h), 1, 1, detail))
 
 
-def counter(rng, detail):  # a wide block with an overhanging top band, niche in the top
+def counter(rng, detail, st):  # a wide block with an overhanging top band, niche in the top
     w, d, h = rng.uniform(0.8, 0.95), rng.uniform(0.7, 0.8), rng.uniform(0.75, 0.85)
     kick = rng.uniform(0.06, 0.1)
-    return ([box((0, 0.03, kick / 2), (w * 0.95, d * 0.85, kick))]
+    return ([panel((0, 0.03, kick / 2), (w * 0.95, d * 0.85, kick), st)]
             + niche_body(rng, (0, 0, kick + h / 2), (w, d, h), 2, 1, detail))
 
 
-def ottoman(rng, detail):  # a low cylinder-topped block on the floor, niche underneath
+def ottoman(rng, detail, st):  # a low cushion-topped block on the floor, niche underneath
     w, d, h = rng.uniform(0.7, 0.8), rng.uniform(0.7, 0.8), rng.uniform(0.55, 0.65)
-    cushion = cylinder((0, 0, h + 0.04), 1.0, 0.08, sections=24)
-    cushion.apply_scale([w * 0.45, d * 0.45, 1.0])
-    return [cushion] + niche_body(rng, (0, 0, h / 2), (w, d, h), 2, -1, detail)
+    pad = cushion((0, 0, h + 0.04), (w * 0.9, d * 0.9, 0.1), rng.uniform(0.3, 0.9),
+                  subdivisions=1 + st.quad_segs // 3)
+    return [pad] + niche_body(rng, (0, 0, h / 2), (w, d, h), 2, -1, detail)
 
 
-def sideboard(rng, detail):  # low on tall legs, niche at its right end
+def sideboard(rng, detail, st):  # low on tall legs, niche at its right end
     w, d, h = rng.uniform(0.7, 0.8), rng.uniform(0.6, 0.7), rng.uniform(0.55, 0.65)
     leg = rng.uniform(0.2, 0.25)
-    return (four_legs(rng, w, d, leg, inset=0.06)
+    return (four_legs(rng, w, d, leg, st, inset=0.06) + top(w, d, leg + h, st)
             + niche_body(rng, (0, 0, leg + h / 2), (w, d, h), 0, 1, detail))
 
 
-def lectern(rng, detail):  # a box on a central column and a foot plate, niche at its left side
+def lectern(rng, detail, st):  # a box on a central column and a foot plate, niche at its left side
     w, d, h = rng.uniform(0.65, 0.75), rng.uniform(0.6, 0.7), rng.uniform(0.45, 0.55)
     col = rng.uniform(0.3, 0.4)
-    return ([box((0, 0, 0.02), (w * 0.8, d * 0.8, 0.04)),
-             cylinder((0, 0, col / 2), rng.uniform(0.07, 0.1), col, sections=12)]
+    return ([panel((0, 0, 0.02), (w * 0.8, d * 0.8, 0.04), st),
+             cylinder((0, 0, col / 2), rng.uniform(0.07, 0.1), col, sections=st.sections)]
+            + top(w, d, col + h, st)
             + niche_body(rng, (0, 0, col + h / 2), (w, d, h), 0, -1, detail))
 
 
@@ -191,22 +204,25 @@ def pair_sheet(seed=0):
     return np.array(rows), labels, titles
 
 
-def make_shape(label: int, seed: int):
+def make_shape(label: int, seed: int, held_out=False):
     """Build one shape of class `label` from `seed`: (vertices (V, 3) in [-0.5, 0.5]^3, faces).
 
-    The twins of a pair draw the same proportions from the same seed, so a pair differs only by
-    its detail."""
+    The twins of a pair draw the same style and proportions from the same seed, so a pair
+    differs only by its detail."""
     base, _, _ = PAIRS[label // 2]
     rng = np.random.default_rng(seed)
-    mesh = trimesh.util.concatenate(BASES[base](rng, DETAILS[label % 2]))
+    st = dressing(rng, held_out)
+    mesh = trimesh.util.concatenate(BASES[base](rng, DETAILS[label % 2], st))
     return normalise(mesh.vertices).astype(np.float32), np.asarray(mesh.faces, dtype=np.int32)
 
 
-VERSION = 2  # bump when a generator changes, so caches are rebuilt
+VERSION = 5  # bump when a generator changes, so caches are rebuilt
 
 
 def twins(split="train", cache_dir=None, seed=0, per_class=None):
-    """The twins benchmark as a ShapeDataset: 200 train / 50 test objects per class (it has one
-    style per class: its `cross` split is only more objects drawn the same way)."""
+    """The twins benchmark as a ShapeDataset: 200 train / 50 test objects per class; `cross`
+    holds pieces in the held-out dressing."""
     from .procedural import generated
-    return generated("twins", CLASSES, make_shape, VERSION, split, cache_dir, seed, per_class)
+    held_out = split == "cross"
+    return generated("twins", CLASSES, lambda label, s: make_shape(label, s, held_out), VERSION,
+                     split, cache_dir, seed, per_class)
