@@ -399,14 +399,18 @@ def old_vs_new_section(path):
         return []
     d = json.loads(Path(path).read_text())
     splits = list(dict.fromkeys(k.split(", ")[1] for k in d))
+    models = list(dict.fromkeys(k.split(" model, ")[0] for k in d))
     rows = [[f"{m} model, {p}"] + [f"{100 * d[f'{m} model, {sp}, {p}']:.1f}" for sp in splits]
-            for m in ("old", "new") for p in ("learned", "straight")]
+            for m in models for p in ("learned", "straight")]
     return ["", "## Old and new shipped model (`benchmarks/old_vs_new.py`)", "",
             "Accuracy (%) after 3 views, the same seeded objects and starts for both models: the "
             "old generator's test split (boxes and cylinders), the new generator's test split "
             "(its training styles) and its cross split (the held-out styles). The old model was "
             "trained on canonical frames and clean images, the new one with the yaw, frame-error, "
-            "floor-cut and dropout augmentation (config/train_procedural.yaml).", "",
+            "floor-cut and dropout augmentation (config/train_procedural.yaml); the `canonical` "
+            "model, where present, is the new one trained without the yaw "
+            "(config/train_procedural_canonical.yaml): what knowing nothing of the heading costs "
+            "on objects in their canonical heading.", "",
             table(rows, ["model, planner"] + splits),
             "", "![contact sheet](contact_sheet.png) ![held-out styles](cross_contact_sheet.png)"]
 

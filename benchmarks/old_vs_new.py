@@ -69,6 +69,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--objects", type=int, default=500, help="seeded objects per split")
     ap.add_argument("--old-model", default=None, help="the old model file (default: from git)")
+    ap.add_argument("--model", action="append", default=[], metavar="NAME=FILE",
+                    help="another model to compare, e.g. canonical=runs/ship_canonical/final.pt")
     ap.add_argument("--out", default=str(ROOT / "docs/results/old_vs_new.json"))
     args = ap.parse_args()
     old_path = args.old_model
@@ -78,6 +80,11 @@ def main():
         tmp.close()
         old_path = tmp.name
     models = {"old": checkpoint.load_model(old_path)[0], "new": checkpoint.load_model()[0]}
+    for item in args.model:
+        name, sep, path = item.partition("=")
+        if not sep or not name:
+            ap.error(f"--model {item!r}: expected NAME=FILE")
+        models[name] = checkpoint.load_model(path)[0]
     cam = CameraConfig(64, 64)
     splits = {"old test": Shapes(old_test_split(OLD), cam)}
     for s in ("test", "cross"):
