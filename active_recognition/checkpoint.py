@@ -12,6 +12,7 @@ from pathlib import Path
 import torch
 
 from .model import ModelConfig, RecurrentAttention
+from .validation import InputError, check_mapping
 
 FORMAT = "active_recognition/1"
 SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
@@ -20,11 +21,11 @@ SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
 def shipped(dataset="procedural"):
     """The shipped model of an embedded dataset."""
     if dataset not in ("procedural", "twins"):
-        raise ValueError(f"shipped models exist for procedural and twins, not {dataset!r}")
+        raise InputError(f"shipped models exist for procedural and twins, not {dataset!r}")
     return SHIPPED.with_name(f"{dataset}.pt")
 
 
-class CheckpointError(ValueError):
+class CheckpointError(InputError):
     """A checkpoint file that is not ours or does not fit; the message says which and why."""
 
     def __init__(self, path, reason):
@@ -75,8 +76,8 @@ def read_any(path):
 def build_model(ckpt, path="<checkpoint>"):
     """The model a checkpoint dict describes, with its weights; CheckpointError on any mismatch."""
     try:
-        config = ModelConfig(**ckpt["model_args"])
-    except (TypeError, AssertionError) as e:
+        config = ModelConfig(**check_mapping(ModelConfig, ckpt["model_args"], "model_args."))
+    except InputError as e:
         raise CheckpointError(path, f"bad model_args ({e})") from None
     classes = ckpt["classes"]
     if not isinstance(classes, list) or len(classes) != config.num_classes:

@@ -17,31 +17,42 @@ import numpy as np
 import torch
 
 from . import checkpoint, geometry
-from .datasets import default_cache_dir, open_dataset
+from .datasets import NAMES, default_cache_dir, open_dataset
+from .datasets.base import SPLITS
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
 from .train import Shapes
+from .validation import SEED_MAX, Check, InputError, option, validate
 
 
 @dataclass
 class EvalConfig:
-    checkpoint: str | None = None            # the model (default: the dataset's shipped one)
-    reinforce_checkpoint: str | None = None  # the REINFORCE-trained model, for "reinforce"
-    planner_checkpoints: dict = field(default_factory=dict)  # planner -> its own model file
-    planners: tuple = ("learned", "random", "straight", "oracle")
-    dataset: str = "procedural"
-    root: str | None = None
-    split: str = "test"
-    objects: int = 0                         # 0: the whole split; else a seeded sample
-    starts: int = 1                          # initial views per object, a seeded sample of the 50
-    steps: int = 10
-    entropy_threshold: float = 0.1
-    seed: int = 0
-    out: str = "runs/eval"
-    shared: bool = True                      # also score every planner with the shared classifier
-    oracle_candidates: int = 50
-    trajectory_figures: int = 3
+    # the model (default: the dataset's shipped one)
+    checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None))
+    # the REINFORCE-trained model, for "reinforce"
+    reinforce_checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None))
+    planner_checkpoints: dict = option({})  # planner -> its own model file
+    planners: tuple = option(("learned", "random", "straight", "oracle"), length=(1, None),
+                             items=Check(str, choices=PLANNERS))
+    dataset: str = option("procedural", choices=NAMES)
+    root: str | None = option(None, kind=str, optional=True, length=(1, None))
+    split: str = option("test", choices=SPLITS)
+    objects: int = option(0, lo=0)          # 0: the whole split; else a seeded sample
+    starts: int = option(1, lo=1, hi=50)    # initial views per object, a seeded sample of the 50
+    steps: int = option(10, lo=1, hi=100)
+    entropy_threshold: float = option(0.1, lo=0)
+    seed: int = option(0, lo=0, hi=SEED_MAX)
+    out: str = option("runs/eval", length=(1, None))
+    shared: bool = option(True)             # also score every planner with the shared classifier
+    oracle_candidates: int = option(50, lo=1, hi=10_000)
+    trajectory_figures: int = option(3, lo=0, hi=100)
+
+    def __post_init__(self):
+        validate(self)
+        twice = sorted({p for p in self.planners if self.planners.count(p) > 1})
+        if twice:
+            raise InputError(f"planners: {', '.join(twice)} named more than once")
 
 
 @dataclass
@@ -117,24 +128,21 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
                                       CameraConfig(size, size, radius=radius))
     shapes = splits[size, radius]
     if list(shapes.ds.classes) != classes:
-        raise ValueError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
+        raise InputError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
                          f"not the dataset's {shapes.ds.classes}")
     return model, classes, shapes, ckpt
 
 
 def evaluate(cfg: EvalConfig, progress=True):
     """Run every planner; write the report under cfg.out; return {planner: Rollout}."""
-    for name in cfg.planners:
-        if name not in PLANNERS:
-            raise ValueError(f"planner must be among {PLANNERS}, got {name!r}")
     paths = {**({"reinforce": cfg.reinforce_checkpoint} if cfg.reinforce_checkpoint else {}),
              **cfg.planner_checkpoints}
     if "reinforce" in cfg.planners and "reinforce" not in paths:
-        raise ValueError("the reinforce planner needs --reinforce-checkpoint (a model trained "
+        raise InputError("the reinforce planner needs --reinforce-checkpoint (a model trained "
                          "with 'train --policy reinforce')")
     for name, path in paths.items():  # refuse a missing file now, not after an hour
         if name not in PLANNERS or not Path(path).is_file():
-            raise ValueError(f"planner checkpoint {name}={path}: " + (
+            raise InputError(f"planner checkpoint {name}={path}: " + (
                 "no such planner" if name not in PLANNERS else "no such file"))
     model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)

@@ -8,10 +8,12 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from .validation import InputError
+
 SUFFIXES = (".off", ".obj", ".ply", ".stl", ".glb")
 
 
-class MeshError(ValueError):
+class MeshError(InputError):
     """A mesh file that cannot be used; the message names the file and the reason."""
 
     def __init__(self, path, reason):

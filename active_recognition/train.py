@@ -15,7 +15,7 @@ import math
 import os
 import sys
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -25,66 +25,64 @@ from torch import nn
 from tqdm import tqdm
 
 from . import checkpoint, geometry
-from .datasets import default_cache_dir, open_dataset
-from .depth_layer import CameraConfig, DepthCamera
+from .datasets import NAMES, default_cache_dir, open_dataset
+from .depth_layer import GRADIENT_RULES, CameraConfig, DepthCamera
 from .episode import Episode, EpisodeConfig, run
 from .model import ModelConfig, RecurrentAttention
 from .policies import lookahead_logits, visited_mask
+from .validation import SEED_MAX, Check, InputError, option, validate
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
 POLICIES = ("learned", "reinforce", "hybrid", "imitation")
+MAX_EPOCHS = 100_000
 
 
 @dataclass
 class TrainConfig:
-    dataset: str = "procedural"
-    root: str | None = None
-    out: str = "runs/procedural"
-    stage: str = "all"                # pretrain | joint | all
-    policy: str = "learned"           # learned (end to end) | reinforce | hybrid (both) | imitation
-    imitation_mix: float = 0.5        # imitation: chance that a step follows the oracle, not FC_view
-    revisit_penalty: float = 0.0      # learned: weight of VERAM's penalty on revisiting views
-    pretrain_epochs: int = 6
-    joint_epochs: int = 6
-    batch_size: int = 32
-    views_per_shape: int = 4          # pre-training images per shape per batch
-    steps: int = 10                   # views per training episode
-    lr_pretrain: float = 1e-3         # Adam; the paper's SGD used 0.01
-    lr_joint: float = 3e-4            # the paper: 0.001
-    view_gradient: str = "surface"    # paper | surface
-    lr_view_scale: float = 1.0        # FC_loc's learning rate relative to the rest (joint stage)
-    step_weighting: str = "uniform"   # uniform | early: the joint loss's weights over the steps
-    initial_step: list | None = None  # (dtheta, dphi) rad: FC_loc's bias when the joint stage starts
-    gradient_reduction: str = "mean"  # mean (the paper) | sum
-    eval_shapes: int = 200            # test shapes scored after each epoch (0: none)
-    checkpoint_every: int = 50        # batches
-    seed: int = 0
-    device: str = "cpu"
-    resume: bool = False
-    max_shapes: int = 0               # use only the first N training shapes (0: all)
-    model: dict = field(default_factory=dict)  # ModelConfig overrides
+    dataset: str = option("procedural", choices=NAMES)
+    root: str | None = option(None, kind=str, optional=True, length=(1, None))
+    out: str = option("runs/procedural", length=(1, None))
+    stage: str = option("all", choices=STAGES + ("all",))
+    # learned (end to end) | reinforce | hybrid (both) | imitation
+    policy: str = option("learned", choices=POLICIES)
+    imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
+    revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
+    pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
+    joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
+    batch_size: int = option(32, lo=1, hi=100_000)
+    views_per_shape: int = option(4, lo=1, hi=1000)  # pre-training images per shape per batch
+    steps: int = option(10, lo=1, hi=100)            # views per training episode
+    lr_pretrain: float = option(1e-3, lo=0, lo_open=True)  # Adam; the paper's SGD used 0.01
+    lr_joint: float = option(3e-4, lo=0, lo_open=True)     # the paper: 0.001
+    view_gradient: str = option("surface", choices=GRADIENT_RULES)
+    lr_view_scale: float = option(1.0, lo=0)  # FC_loc's learning rate relative to the rest (joint)
+    step_weighting: str = option("uniform", choices=STEP_WEIGHTINGS)  # the joint loss's weights
+    # (dtheta, dphi) rad: FC_loc's bias when the joint stage starts
+    initial_step: list | None = option(None, kind=list, optional=True, length=(2, 2),
+                                       items=Check(float))
+    gradient_reduction: str = option("mean", choices=("mean", "sum"))
+    eval_shapes: int = option(200, lo=0)        # test shapes scored after each epoch (0: none)
+    checkpoint_every: int = option(50, lo=1)    # batches
+    seed: int = option(0, lo=0, hi=SEED_MAX)
+    device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N")
+    resume: bool = option(False)
+    max_shapes: int = option(0, lo=0)           # use only the first N training shapes (0: all)
+    model: dict = option({}, schema=ModelConfig)  # ModelConfig overrides
 
     def __post_init__(self):
-        if self.stage not in STAGES + ("all",):
-            raise ValueError(f"stage must be pretrain, joint or all, got {self.stage!r}")
-        if self.view_gradient not in ("paper", "surface"):
-            raise ValueError(f"view gradient must be paper or surface, got {self.view_gradient!r}")
-        if self.policy not in POLICIES:
-            raise ValueError(f"policy must be one of {POLICIES}, got {self.policy!r}")
-        if not (math.isfinite(self.revisit_penalty) and self.revisit_penalty >= 0):
-            raise ValueError(f"revisit_penalty must be >= 0, got {self.revisit_penalty}")
-        if not 0 <= self.imitation_mix <= 1:
-            raise ValueError(f"imitation_mix must lie in [0, 1], got {self.imitation_mix}")
-        if self.batch_size < 1 or self.steps < 1:
-            raise ValueError("batch size and steps must be at least 1")
-        if self.step_weighting not in STEP_WEIGHTINGS:
-            raise ValueError(f"step weighting must be one of {STEP_WEIGHTINGS}, "
-                             f"got {self.step_weighting!r}")
-        if self.initial_step is not None and (len(self.initial_step) != 2 or not all(
-                math.isfinite(float(v)) for v in self.initial_step)):
-            raise ValueError(f"initial step must be two finite angles (dtheta, dphi), "
-                             f"got {self.initial_step!r}")
+        validate(self)
+        if "num_classes" in self.model:
+            raise InputError("model.num_classes comes from the dataset's classes: leave it out")
+        if self.policy == "imitation" and not self.model.get("candidates"):
+            raise InputError("policy imitation needs a view-scoring head: set model.candidates "
+                             "(--candidates 50)")
+        if self.initial_step is not None:  # refuse it now, not after pre-training
+            initial_step_bias(self.initial_step, self.model.get("max_step", ModelConfig.max_step))
+        epochs = {"pretrain": self.pretrain_epochs, "joint": self.joint_epochs}
+        if not any(epochs[s] for s in (STAGES if self.stage == "all" else (self.stage,))):
+            raise InputError(f"nothing to train: stage {self.stage} with pretrain_epochs "
+                             f"{self.pretrain_epochs} and joint_epochs {self.joint_epochs}")
 
 
 def step_weights(steps, weighting="uniform"):
@@ -103,7 +101,7 @@ def initial_step_bias(step, bound):
     """FC_loc's bias that makes the untrained view head walk `step`: atanh(step / bound)."""
     ratio = torch.as_tensor([float(v) for v in step]) / bound
     if ratio.abs().max() >= 1:
-        raise ValueError(f"initial step {list(step)} must lie inside the increment bound "
+        raise InputError(f"initial step {list(step)} must lie inside the increment bound "
                          f"max_step = {bound}")
     return torch.atanh(ratio)
 
@@ -267,7 +265,7 @@ def resolve_device(device, rank):
     if device == "cuda" and int(os.environ.get("WORLD_SIZE", "1")) > 1:
         return f"cuda:{int(os.environ.get('LOCAL_RANK', rank))}"
     if device.startswith("cuda") and not torch.cuda.is_available():
-        raise ValueError(f"device {device!r} asked for, but torch sees no CUDA GPU")
+        raise InputError(f"device {device!r} asked for, but torch sees no CUDA GPU")
     return device
 
 
@@ -337,11 +335,6 @@ def train(cfg: TrainConfig, progress=True):
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
     mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
-    if cfg.policy == "imitation" and not mcfg.candidates:
-        raise ValueError("policy imitation needs a view-scoring head: set model.candidates "
-                         "(--candidates 50)")
-    if cfg.initial_step is not None:  # refuse it now, not after pre-training
-        initial_step_bias(cfg.initial_step, mcfg.max_step)
     model = RecurrentAttention(mcfg).to(device)
     camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
     shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)

@@ -89,7 +89,7 @@ def test_training_time_ratio_from_metrics():
 
 
 def test_unknown_planner_and_missing_reinforce_model_are_refused():
-    with pytest.raises(ValueError, match="planner must be among"):
+    with pytest.raises(ValueError, match=r"planners\[0\] must be one of learned, .*'psychic'"):
         evaluate(EvalConfig(planners=("psychic",)))
     with pytest.raises(ValueError, match="reinforce-checkpoint"):
         evaluate(EvalConfig(planners=("reinforce",)))
