@@ -11,6 +11,9 @@ from active_recognition.meshes import MeshError, load_mesh
 
 CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+PLY_HEADER = ("ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n"
+              "property float z\nelement face {}\nproperty list uchar int vertex_indices\n"
+              "end_header\n")
 
 
 def write_off(path, verts, faces, fused=False):
@@ -46,7 +49,13 @@ def test_offset_and_scaled_mesh_is_normalised(tmp_path):
     ("empty.off", "", "empty"),
     ("trunc.off", "OFF\n8 6 0\n0 0 0\n1 0 0\n", "truncated"),
     ("garbage.off", "\x00\x01hello", "OFF"),
-    ("garbage.obj", "this is not a mesh at all", ""),
+    ("garbage.obj", "this is not a mesh at all", "fewer than 3 vertices"),
+    ("lie.off", "OFF\n3 1000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "declares 1000 faces but the file holds 1"),
+    ("lie.ply", PLY_HEADER.format(3, 1000) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "declares 3 vertices and 1000 faces, the file holds 3 and 1"),
+    ("fewverts.ply", PLY_HEADER.format(300, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "declares 300 vertices"),
     ("flat.off", "OFF\n3 1 0\n0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n", "zero"),
     ("mesh.txt", "whatever", "unsupported"),
 ])
@@ -56,6 +65,33 @@ def test_bad_files_raise_one_clear_error(tmp_path, name, content, reason):
     with pytest.raises(MeshError) as e:
         load_mesh(path)
     assert name in str(e.value) and reason.lower() in str(e.value).lower()
+
+
+@pytest.mark.parametrize("suffix,reason", [
+    (".obj", "not a text OBJ file"), (".off", "not a text OFF file"),
+    (".ply", "not a PLY file (no 'ply' signature)"), (".glb", "not a GLB file"),
+    (".stl", "not an STL file")])
+def test_random_bytes_give_a_message_about_the_file(tmp_path, suffix, reason):
+    path = tmp_path / f"noise{suffix}"
+    path.write_bytes(np.random.default_rng(7).integers(0, 256, 3000, dtype=np.uint8).tobytes())
+    with pytest.raises(MeshError) as e:
+        load_mesh(path)
+    assert str(e.value) == f"{path}: {e.value.reason}" and reason in e.value.reason
+    assert "module" not in str(e.value)
+
+
+def test_a_ply_of_quads_declares_fewer_faces_than_its_triangles_and_loads(tmp_path):
+    body = "".join(f"{x} {y} {z}\n" for x, y, z in CUBE_V)
+    body += "".join(f"4 {' '.join(map(str, q))}\n" for q in CUBE_QUADS)
+    (tmp_path / "cube.ply").write_text(PLY_HEADER.format(8, 6) + body)
+    v, f = load_mesh(tmp_path / "cube.ply")
+    assert f.shape == (12, 3) and abs(trimesh.Trimesh(v, f).area - 6.0) < 1e-6
+
+
+def test_a_folder_named_like_a_mesh_is_named_as_a_folder(tmp_path):
+    (tmp_path / "dir.obj").mkdir()
+    with pytest.raises(MeshError, match="dir.obj: is a directory, not a file"):
+        load_mesh(tmp_path / "dir.obj")
 
 
 def test_modelnet_tree_with_a_bad_file(tmp_path):
