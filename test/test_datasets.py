@@ -8,6 +8,7 @@ from active_recognition.datasets import open_dataset, procedural
 from active_recognition.datasets.procedural import CLASSES, make_shape
 from active_recognition.depth_layer import CameraConfig, DepthCamera
 from active_recognition.meshes import MeshError, load_mesh
+from active_recognition.validation import InputError
 
 CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
@@ -114,6 +115,41 @@ def test_modelnet_tree_with_a_bad_file(tmp_path):
         np.testing.assert_array_equal(again.mesh(i)[0], train.mesh(i)[0])
 
 
+def test_a_class_in_one_split_only_keeps_its_label_and_counts_zero_in_the_other(tmp_path):
+    for c, splits in (("chair", ("train", "test")), ("lamp", ("test",)), ("table", ("train", "test"))):
+        for split in splits:
+            (tmp_path / c / split).mkdir(parents=True)
+            write_off(tmp_path / c / split / f"{c}.off", CUBE_V, CUBE_QUADS)
+    train, test = (open_dataset("modelnet", tmp_path, s, cache_dir=str(tmp_path / "c"))
+                   for s in ("train", "test"))
+    assert train.classes == test.classes == ["chair", "lamp", "table"]
+    assert list(train.class_counts()) == [1, 0, 1] and list(test.class_counts()) == [1, 1, 1]
+    for p, label in test.items:  # each object under its own folder's class
+        assert test.classes[label] == p.parent.parent.name
+    assert len(list((tmp_path / "c" / "meshes").glob("*.npz"))) == 5  # a str cache_dir works
+
+
+def test_a_layout_that_finds_no_objects_says_what_it_looked_for(tmp_path):
+    (tmp_path / "chair" / "train").mkdir(parents=True)
+    write_off(tmp_path / "chair" / "train" / "a.off", CUBE_V, CUBE_QUADS)
+    ds = open_dataset("folder", tmp_path, "train")
+    assert len(ds) == 0
+    with pytest.raises(InputError, match=r"no train objects found in folder root .*<class>/\*"
+                                         r".*look like modelnet's: --name modelnet\?"):
+        ds.require_objects()
+    assert open_dataset("modelnet", tmp_path, "train").require_objects().classes == ["chair"]
+
+
+def test_a_damaged_generated_cache_is_rebuilt_not_trusted(tmp_path):
+    ds = procedural("test", cache_dir=tmp_path, per_class=2)
+    (cached,) = (tmp_path / "procedural").glob("*.npz")
+    cached.write_bytes(cached.read_bytes()[:100])  # a half-written file
+    again = procedural("test", cache_dir=tmp_path, per_class=2)
+    for i in range(len(ds)):
+        np.testing.assert_array_equal(again.mesh(i)[0], ds.mesh(i)[0])
+    assert procedural("test", cache_dir=tmp_path, per_class=2).mesh(3)[1].shape == ds.mesh(3)[1].shape
+
+
 def test_shapenet_tree_uses_taxonomy_and_a_stable_split(tmp_path):
     box = trimesh.creation.box()
     for synset in ("03001627", "04379243"):
@@ -142,10 +178,17 @@ def test_folder_layout(tmp_path):
 
 
 def test_unknown_dataset_and_missing_root_are_clear_errors(tmp_path):
-    with pytest.raises(ValueError, match="dataset must be one of"):
+    with pytest.raises(InputError, match="dataset must be one of .*, got 'imagenet'"):
         open_dataset("imagenet")
-    with pytest.raises(ValueError, match="not a directory"):
+    with pytest.raises(InputError, match="nope: no such directory"):
         open_dataset("modelnet", tmp_path / "nope")
+    with pytest.raises(InputError, match=r"needs its root folder \(--root DIR\)"):
+        open_dataset("modelnet")
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InputError, match="file: is not a directory"):
+        open_dataset("folder", tmp_path / "file")
+    with pytest.raises(InputError, match="procedural dataset is generated: it takes no root"):
+        open_dataset("procedural", tmp_path)
 
 
 def test_procedural_is_deterministic_and_seeds_differ():

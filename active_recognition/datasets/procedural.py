@@ -238,12 +238,13 @@ PER_CLASS = {"train": 200, "test": 50}
 def generated(name, classes, make, version, split="train", cache_dir=None, seed=0, per_class=None):
     """A generated benchmark as a ShapeDataset: `make(label, seed)` builds each shape; all meshes
     of a split are cached in one .npz under cache_dir/name."""
-    from .base import ShapeDataset, check_split, save_npz_atomic
+    from ..validation import InputError
+    from .base import ShapeDataset, check_split, load_npz, save_npz_atomic
 
     check_split(split)
     per_class = PER_CLASS[split] if per_class is None else int(per_class)
     if per_class < 1:
-        raise ValueError(f"{name} per_class must be at least 1, got {per_class}")
+        raise InputError(f"{name} per_class must be at least 1, got {per_class}")
     specs = shape_seeds(seed, per_class, split, len(classes))
     items = [(f"{classes[label]}/{s}", label) for label, s in specs]
     ds = ShapeDataset(name, list(classes), split, items, cache_dir=cache_dir)
@@ -251,9 +252,10 @@ def generated(name, classes, make, version, split="train", cache_dir=None, seed=
     if cache_dir is not None:
         from pathlib import Path
         path = Path(cache_dir) / name / f"v{version}-s{seed}-{split}-{per_class}.npz"
-    if path is not None and path.exists():
-        with np.load(path) as z:
-            v, f, vo, fo = (z[k] for k in ("vertices", "faces", "vertex_offsets", "face_offsets"))
+    cached = None if path is None else load_npz(path, ("vertices", "faces", "vertex_offsets",
+                                                         "face_offsets"))
+    if cached is not None and len(cached[2]) == len(items) + 1:
+        v, f, vo, fo = cached
         for i in range(len(items)):
             ds._meshes[i] = (v[vo[i]:vo[i + 1]], f[fo[i]:fo[i + 1]])
         return ds
