@@ -88,7 +88,35 @@ def build_model(ckpt, path="<checkpoint>"):
         model.load_state_dict(ckpt["model"], strict=True)
     except (RuntimeError, TypeError, AttributeError) as e:
         raise CheckpointError(path, f"weights do not fit the model ({str(e)[:300]})") from None
+    name = nonfinite(model.state_dict())
+    if name is not None:
+        raise CheckpointError(path, f"weight {name} holds NaN or infinite values (a diverged run?)")
     return model
+
+
+def nonfinite(state_dict):
+    """The name of the first floating-point tensor holding NaN or inf, else None."""
+    for name, value in state_dict.items():
+        if torch.is_tensor(value) and value.is_floating_point() and not torch.isfinite(value).all():
+            return name
+    return None
+
+
+def read_fitting(path, config: ModelConfig, classes, resumable=False):
+    """A checkpoint of this run's model (same options and classes; `resumable`: with its training
+    state), to resume from or to start the joint stage from; CheckpointError naming what differs."""
+    ckpt = read(path)
+    build_model(ckpt, path)  # its own weights are sound
+    theirs, ours = ModelConfig(**ckpt["model_args"]).to_dict(), config.to_dict()
+    differ = [f"{k} {theirs[k]!r}, this run {ours[k]!r}" for k in ours if theirs[k] != ours[k]]
+    if differ:
+        raise CheckpointError(path, "written with other model options (" + "; ".join(differ) +
+                                    "): use the same options, or another --out")
+    if list(ckpt["classes"]) != list(classes):
+        raise CheckpointError(path, f"classes {ckpt['classes']} are not the dataset's {list(classes)}")
+    if resumable and not all(k in ckpt for k in ("state", "optimizer", "elapsed")):
+        raise CheckpointError(path, "holds no training state to resume from")
+    return ckpt
 
 
 def load_model(path=None, expect_classes=None):

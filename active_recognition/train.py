@@ -30,7 +30,7 @@ from .depth_layer import GRADIENT_RULES, CameraConfig, DepthCamera
 from .episode import Episode, EpisodeConfig, run
 from .model import ModelConfig, RecurrentAttention
 from .policies import lookahead_logits, visited_mask
-from .validation import SEED_MAX, Check, InputError, option, validate
+from .validation import SEED_MAX, Check, InputError, option, output_dir, validate
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
@@ -280,7 +280,7 @@ def batches(n, batch, seed, stage, epoch, rank, world):
 def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None):
     """Accuracy after 1, 3, 10 views from fixed initial views on a seeded sample of n shapes,
     with the model's own view head (or `planner`)."""
-    if n <= 0:
+    if n <= 0 or not len(shapes):
         return {}
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(shapes))[:n])  # a fixed, seeded subset of every class
@@ -321,16 +321,33 @@ def read_metrics(path):
         return list(csv.DictReader(f))
 
 
+def stop_if_diverged(model, where, ckpt_path, saved, loss=None):
+    """InputError when `loss` (if given), else any weight, is not finite: training has diverged.
+    The message says where and which checkpoint is the last good one (none is overwritten)."""
+    if loss is not None:
+        bad = None if math.isfinite(loss) else f"the loss became {loss}"
+    else:
+        name = checkpoint.nonfinite(model.state_dict())
+        bad = None if name is None else f"weight {name} became non-finite"
+    if bad is None:
+        return
+    last = (f"the last good checkpoint is {ckpt_path} (step {saved})" if saved is not None else
+            "no checkpoint had been written yet")
+    raise InputError(f"training stopped at {where}: {bad} (is a learning rate too high?); {last}")
+
+
 def train(cfg: TrainConfig, progress=True):
     """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt."""
     rank, world = distributed(cfg.device)
     device = resolve_device(cfg.device, rank)
     torch.manual_seed(cfg.seed)
-    out = Path(cfg.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_dir(cfg.out, "out")
     ckpt_path, metrics_path = out / "last.pt", out / "metrics.csv"
+    if cfg.resume and not ckpt_path.exists():
+        raise InputError(f"resume: {ckpt_path} does not exist, so there is nothing to resume "
+                         f"(leave out --resume to start afresh)")
     cache = default_cache_dir()
-    train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache)
+    train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache).require_objects()
     test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
@@ -339,26 +356,30 @@ def train(cfg: TrainConfig, progress=True):
     camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
     shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
     state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
-    rows, elapsed, opt_state = [], 0.0, None
-    if cfg.resume and ckpt_path.exists():
-        ckpt = checkpoint.read(ckpt_path)
-        model.load_state_dict(checkpoint.build_model(ckpt, ckpt_path).state_dict())
+    rows, elapsed, opt_state, saved = [], 0.0, None, None
+    if cfg.resume:
+        ckpt = checkpoint.read_fitting(ckpt_path, mcfg, train_ds.classes, resumable=True)
+        model.load_state_dict(ckpt["model"])
         state, elapsed, opt_state = dict(ckpt["state"]), ckpt["elapsed"], ckpt["optimizer"]
-        rows = read_metrics(metrics_path)
+        rows, saved = read_metrics(metrics_path), state["step"]
         if rank == 0:
             print(f"resumed from {ckpt_path} at {state}", file=sys.stderr)
     stages = STAGES if cfg.stage == "all" else (cfg.stage,)
     if cfg.stage == "joint" and not cfg.resume and (out / "pretrained.pt").exists():
-        model.load_state_dict(checkpoint.read(out / "pretrained.pt")["model"])
+        model.load_state_dict(checkpoint.read_fitting(out / "pretrained.pt", mcfg,
+                                                      train_ds.classes)["model"])
     start = time.perf_counter() - elapsed
 
     def save_state(opt):
+        nonlocal saved
         if rank == 0:
+            stop_if_diverged(model, f"step {state['step']}", ckpt_path, saved)
             payload = {"model": model.state_dict(), "model_args": mcfg.to_dict(),
                        "classes": list(train_ds.classes), "optimizer": opt.state_dict(),
                        "state": dict(state), "config": asdict(cfg),
                        "elapsed": time.perf_counter() - start}
             checkpoint.save(ckpt_path, payload)
+            saved = state["step"]
 
     for s, stage in enumerate(STAGES):
         if stage not in stages or s < state["stage"]:
@@ -412,6 +433,8 @@ def train(cfg: TrainConfig, progress=True):
                 else:
                     views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
                     loss, acc = net(cams, views, y)
+                stop_if_diverged(model, f"{stage} epoch {epoch + 1}, batch {b + 1} (step "
+                                 f"{state['step'] + 1})", ckpt_path, saved, loss.item())
                 opt.zero_grad()
                 loss.backward()
                 opt.step()
@@ -439,10 +462,12 @@ def train(cfg: TrainConfig, progress=True):
         del net, wrapper
         gc.collect()
         if stage == "pretrain" and rank == 0:
+            stop_if_diverged(model, "the end of pre-training", ckpt_path, saved)
             checkpoint.save(out / "pretrained.pt", {"model": model.state_dict(),
                                                     "model_args": mcfg.to_dict(),
                                                     "classes": list(train_ds.classes)})
     if rank == 0:
+        stop_if_diverged(model, "the end", ckpt_path, saved)
         checkpoint.save(out / "final.pt", {"model": model.state_dict(), "model_args": mcfg.to_dict(),
                                            "classes": list(train_ds.classes), "config": asdict(cfg),
                                            "elapsed": time.perf_counter() - start})
