@@ -23,7 +23,8 @@ from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
 from .train import Shapes
-from .validation import SEED_MAX, Check, InputError, option, validate
+from .validation import (SEED_MAX, Check, InputError, input_file, option, output_dir,
+                         validate)
 
 
 @dataclass
@@ -140,15 +141,18 @@ def evaluate(cfg: EvalConfig, progress=True):
     if "reinforce" in cfg.planners and "reinforce" not in paths:
         raise InputError("the reinforce planner needs --reinforce-checkpoint (a model trained "
                          "with 'train --policy reinforce')")
-    for name, path in paths.items():  # refuse a missing file now, not after an hour
-        if name not in PLANNERS or not Path(path).is_file():
-            raise InputError(f"planner checkpoint {name}={path}: " + (
-                "no such planner" if name not in PLANNERS else "no such file"))
+    for name, path in paths.items():  # refuse a bad file now, not after an hour
+        if name not in PLANNERS:
+            raise InputError(f"planner checkpoint {name}={path}: no such planner (planners: "
+                             f"{', '.join(PLANNERS)})")
+        input_file(path, "checkpoint")
+    out = output_dir(cfg.out, "out")
     model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
+    if cfg.objects > len(test.ds.require_objects()):
+        raise InputError(f"objects = {cfg.objects}, but the {cfg.dataset} {cfg.split} split holds "
+                         f"{len(test)} (0 = all of them)")
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
-    out = Path(cfg.out)
-    out.mkdir(parents=True, exist_ok=True)
     net = fixed = None
     if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
