@@ -4,6 +4,7 @@ Any depth camera: each image is paired with the latest CameraInfo and with the c
 its stamp, and the core reprojects it into the model's own camera (reprojection.py).
 """
 import json
+import sys
 import time
 from collections import deque
 from dataclasses import replace
@@ -222,4 +223,4 @@ def main(args=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -4,6 +4,7 @@ Publishes, with one stamp, the image, its CameraInfo and the pose the camera rea
 (`pose_error_deg`). The sensor parameters default to the model's own virtual camera;
 `demo --camera realsense` sets them to simulated_camera.PRESETS["realsense"].
 """
+import sys
 from dataclasses import fields
 
 from geometry_msgs.msg import PoseStamped
@@ -102,4 +103,4 @@ def main(args=None):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
