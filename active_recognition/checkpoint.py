@@ -56,7 +56,7 @@ def read_any(path):
     """Load any of our checkpoint dicts (models, shared classifiers) safely."""
     path = Path(path)
     if not path.is_file():
-        raise CheckpointError(path, "no such file")
+        raise CheckpointError(path, "is a directory, not a file" if path.is_dir() else "no such file")
     if not zipfile.is_zipfile(path):
         raise CheckpointError(path, "unreadable: not a torch checkpoint file (truncated or foreign)")
     try:

@@ -19,7 +19,7 @@ def cmd_render(args):
     from .meshes import load_mesh
     from .visualize import depth_grid
 
-    output_file(args.out, "--out")
+    output_file(args.out, "--out", ".png")
     verts, faces = load_mesh(args.mesh)
     cfg = CameraConfig(height=args.size, width=args.size, radius=args.radius,
                        fov=None if args.fov is None else math.radians(args.fov))
@@ -59,9 +59,10 @@ def cmd_dataset(args):
     from .datasets import default_cache_dir, open_dataset
 
     if args.contact_sheet:
-        output_file(args.contact_sheet, "--contact-sheet")
-    cache = None if args.no_cache else output_dir(args.cache_dir or default_cache_dir(),
-                                                  "--cache-dir")
+        output_file(args.contact_sheet, "--contact-sheet", ".png")
+    cache = None if args.no_cache else output_dir(
+        args.cache_dir or default_cache_dir(),
+        "--cache-dir" if args.cache_dir else "cache folder (ACTIVE_RECOGNITION_CACHE)")
     splits = {s: open_dataset(args.name, args.root, s, cache_dir=cache) for s in ("train", "test")}
     classes = splits["train"].classes
     width = max(len(c) for c in classes + ["class"])

@@ -153,6 +153,8 @@ def evaluate(cfg: EvalConfig, progress=True):
                          f"{len(test)} (0 = all of them)")
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
+    if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
+        make_planner("imitation", model=models.get("imitation") or model)
     net = fixed = None
     if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
@@ -191,12 +193,15 @@ def summary(results):
          "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
          "early_stop": {n: dict(zip(("accuracy", "mean_views"), map(lambda v: round(v, 4), ro.early_stop())))
                         for n, ro in results.items()}}
-    s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
+    three = next(iter(results.values())).probs.shape[1] >= 3  # episodes of 3 views or more
+    if three:
+        s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
     if "fixed" in results and results["fixed"].path is not None:
         s["fixed_path"] = np.round(results["fixed"].path, 6).tolist()
     if all(ro.shared_probs is not None for ro in results.values()):
         s["acc_shared"] = {n: at(ro, True) for n, ro in results.items()}
-        s["stderr_3_shared"] = {n: standard_error(ro, True) for n, ro in results.items()}
+        if three:
+            s["stderr_3_shared"] = {n: standard_error(ro, True) for n, ro in results.items()}
     return s
 
 

@@ -368,6 +368,9 @@ def train(cfg: TrainConfig, progress=True):
     if cfg.stage == "joint" and not cfg.resume and (out / "pretrained.pt").exists():
         model.load_state_dict(checkpoint.read_fitting(out / "pretrained.pt", mcfg,
                                                       train_ds.classes)["model"])
+    elif cfg.stage == "joint" and not cfg.resume and rank == 0:
+        print(f"warning: no {out / 'pretrained.pt'}: the joint stage starts from an untrained "
+              f"classifier", file=sys.stderr)
     start = time.perf_counter() - elapsed
 
     def save_state(opt):

@@ -256,13 +256,16 @@ def output_dir(path, what="output folder"):
     return path
 
 
-def output_file(path, what="output file"):
-    """A file path that can be written: not a directory, in a folder that can be written."""
+def output_file(path, what="output file", suffix=None):
+    """A file path that can be written: not a directory, in a folder that can be written, with
+    `suffix` (e.g. ".png") if given."""
     path = Path(path)
     if str(path) == "" or path.name in ("", ".", ".."):
         raise InputError(f"{what} {str(path)!r}: not a file name")
     if path.is_dir():
         raise InputError(f"{what} {path}: is a directory; name a file")
+    if suffix and path.suffix.lower() != suffix:
+        raise InputError(f"{what} {path}: must end in {suffix}")
     output_dir(path.parent, f"{what} {path}: its folder")
     if path.exists() and not path.is_file():
         raise InputError(f"{what} {path}: exists and is not a regular file")

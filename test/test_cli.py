@@ -135,6 +135,22 @@ def test_train_then_evaluate_through_the_command(trained, tiny_tree, tmp_path, c
     assert len(rows) == 1 + 2 * 3  # header, 3 test objects per planner
 
 
+def test_evaluate_retrains_a_damaged_judge_and_handles_episodes_under_3_views(trained, tiny_tree,
+                                                                             tmp_path, capsys):
+    out = tmp_path / "eval"
+    out.mkdir()
+    (out / "shared_classifier.pt").write_bytes(b"half a file")
+    status, stdout, err = run(["evaluate", "--dataset", "folder", "--root", tiny_tree,
+                               "--checkpoint", trained / "final.pt", "--planners", "random",
+                               "--steps", 2, "--out", out], capsys)
+    assert status == 0, err
+    assert "shared_classifier.pt is not usable" in err and "training it again" in err
+    assert checkpoint.read_any(out / "shared_classifier.pt")["kind"] == "shared_multiview"
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["acc"] == {"random": {}} and "stderr_3" not in summary  # no 3rd view to score
+    assert "| random | - | - | - |" in (out / "report.md").read_text()
+
+
 def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, tiny_tree, tmp_path,
                                                                           capsys):
     out = tmp_path / "run"
@@ -169,6 +185,7 @@ def test_demo_recognises_an_object_over_ros(capsys):
     (["--radius", "-1"], "argument --radius: must be a finite number in (0, 100], got '-1'"),
     (["--fov", "200"], "argument --fov: must be a finite number in (0, 180), got '200'"),
     (["--out", "{files}/a_dir"], "--out {files}/a_dir: is a directory; name a file"),
+    (["--out", "{files}/depth.jpg"], "--out {files}/depth.jpg: must end in .png"),
     (["--out", "{files}/a_file/x.png"], "{files}/a_file: exists and is not a directory"),
 ])
 def test_render_refuses(files, capsys, argv, message):
@@ -192,6 +209,7 @@ def test_render_refuses(files, capsys, argv, message):
     (["--cache-dir", "{files}/a_file"], "--cache-dir {files}/a_file: exists and is not a dir"),
     (["--cache-dir", "{files}/c", "--no-cache"], "not allowed with argument"),
     (["--contact-sheet", "{files}/a_dir"], "--contact-sheet {files}/a_dir: is a directory"),
+    (["--contact-sheet", "{files}/sheet.pdf"], "--contact-sheet {files}/sheet.pdf: must end in .png"),
     (["--objects-per-class", "0"], "argument --objects-per-class: must be an integer from 1 to 20"),
     (["--views-per-object", "9"], "argument --views-per-object: must be an integer from 1 to 5"),
     (["--seed", "-1"], "argument --seed: must be an integer from 0 to 4294967295, got '-1'"),
@@ -244,6 +262,8 @@ def test_train_refuses(files, capsys, argv, message):
     (["--planners", ","], "planners[0] must be one of"),
     (["--planners", "random,random"], "planners: random named more than once"),
     (["--planners", "reinforce"], "the reinforce planner needs --reinforce-checkpoint"),
+    (["--planners", "imitation"], "the imitation planner needs a model with a view-scoring head"),
+    (["--checkpoint", "{files}/a_dir"], "checkpoint {files}/a_dir: is a directory, not a file"),
     (["--checkpoint", "{files}/missing.pt"], "checkpoint {files}/missing.pt: no such file"),
     (["--checkpoint", "{files}/box.stl"], "box.stl: unreadable: not a torch checkpoint file"),
     (["--checkpoint", "{files}/nan.pt"], "nan.pt: weight classify.weight holds NaN or infinite"),
