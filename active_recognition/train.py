@@ -348,6 +348,9 @@ def train(cfg: TrainConfig, progress=True):
                          f"(leave out --resume to start afresh)")
     cache = default_cache_dir()
     train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache).require_objects()
+    if len(train_ds.classes) < 2:
+        raise InputError(f"{train_ds.layout or cfg.dataset}: {len(train_ds.classes)} class "
+                         f"{train_ds.classes}; recognising needs at least 2")
     test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))

@@ -47,6 +47,10 @@ def files(tmp_path_factory, tiny_tree):
         "property float z\nelement face 1000\nproperty list uchar int vertex_indices\n"
         "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
     (d / "a_file").write_text("not a folder")
+    (d / "empty.pt").write_bytes(b"")
+    (d / "truncated.pt").write_bytes(checkpoint.shipped("procedural").read_bytes()[:5000])
+    (d / "one" / "a").mkdir(parents=True)
+    trimesh.creation.box().export(d / "one" / "a" / "box.stl")
     (d / "a_dir").mkdir()
     (d / "syntax.yaml").write_text("pretrain_epochs: 1\n  joint_epochs: [\n")
     (d / "nested.yaml").write_text("model: {hiden_size: 12}\n")
@@ -245,6 +249,9 @@ def test_dataset_refuses(files, capsys, argv, message):
     (["--imitation-mix", "1.5"], "argument --imitation-mix: must be a finite number in [0, 1]"),
     (["--resume", "--out", "{files}/fresh_run"], "nothing to resume"),
     (["--dataset", "folder", "--out", "{files}/fresh_run"], "folder dataset needs its root folder"),
+    (["--dataset", "folder", "--root", "{files}/one", "--out", "{files}/fresh_run"],
+     "1 class ['a']; recognising needs at least 2"),
+    (["--out", "/proc/no_run_here"], "out /proc/no_run_here: cannot write there"),
 ])
 def test_train_refuses(files, capsys, argv, message):
     refused(["train", *[a.format(files=files) for a in argv]], message.format(files=files), capsys)
@@ -267,6 +274,8 @@ def test_train_refuses(files, capsys, argv, message):
     (["--checkpoint", "{files}/missing.pt"], "checkpoint {files}/missing.pt: no such file"),
     (["--checkpoint", "{files}/box.stl"], "box.stl: unreadable: not a torch checkpoint file"),
     (["--checkpoint", "{files}/nan.pt"], "nan.pt: weight classify.weight holds NaN or infinite"),
+    (["--checkpoint", "{files}/empty.pt"], "empty.pt: unreadable: not a torch checkpoint file"),
+    (["--checkpoint", "{files}/truncated.pt"], "truncated.pt: unreadable"),
     (["--checkpoint", "{shipped}"], "the checkpoint's classes ['bathtub', 'bed'"),
     (["--planner-checkpoint", "learned"], "--planner-checkpoint 'learned': expected PLANNER=FILE"),
     (["--planner-checkpoint", "psychic={files}/nan.pt"], "psychic={files}/nan.pt: no such planner"),
