@@ -58,11 +58,11 @@ def add_render(sub):
 def cmd_dataset(args):
     from .datasets import default_cache_dir, open_dataset
 
-    if args.contact_sheet:
+    if args.contact_sheet is not None:
         output_file(args.contact_sheet, "--contact-sheet", ".png")
     cache = None if args.no_cache else output_dir(
-        args.cache_dir or default_cache_dir(),
-        "--cache-dir" if args.cache_dir else "cache folder (ACTIVE_RECOGNITION_CACHE)")
+        default_cache_dir() if args.cache_dir is None else args.cache_dir,
+        "--cache-dir" if args.cache_dir is not None else "cache folder (ACTIVE_RECOGNITION_CACHE)")
     splits = {s: open_dataset(args.name, args.root, s, cache_dir=cache) for s in ("train", "test")}
     classes = splits["train"].classes
     width = max(len(c) for c in classes + ["class"])
@@ -147,7 +147,7 @@ def cmd_train(args):
     from .validation import check_mapping, load_yaml
 
     values = {}
-    if args.config:
+    if args.config is not None:
         values = load_yaml(args.config, "--config")
         try:
             values = check_mapping(TrainConfig, values)
@@ -292,11 +292,11 @@ def cmd_evaluate(args):
         if name in own:
             raise InputError(f"--planner-checkpoint: {name} is given twice")
         own[name] = path
-    if bool(args.learned_metrics) != bool(args.reinforce_metrics):
+    metrics = [m for m in (args.learned_metrics, args.reinforce_metrics) if m is not None]
+    if len(metrics) == 1:
         raise InputError("--learned-metrics and --reinforce-metrics go together (the training-time "
                          "comparison needs both runs)")
-    # read now, not after the evaluation
-    runs = [load_run_metrics(m) for m in (args.learned_metrics, args.reinforce_metrics) if m]
+    runs = [load_run_metrics(m) for m in metrics]  # read now, not after the evaluation
     cfg = EvalConfig(checkpoint=args.checkpoint, reinforce_checkpoint=args.reinforce_checkpoint,
                      planner_checkpoints=own,
                      planners=tuple(p.strip() for p in args.planners.split(",")),

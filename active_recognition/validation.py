@@ -228,6 +228,8 @@ def read_text(path, what="file"):
 
 def input_file(path, what="file"):
     """Path of an existing, readable file; InputError otherwise."""
+    if str(path) == "":
+        raise InputError(f"{what}: empty path")
     path = Path(path)
     if not path.exists():
         raise InputError(f"{what} {path}: no such file")
@@ -243,9 +245,9 @@ def input_file(path, what="file"):
 def output_dir(path, what="output folder"):
     """Create folder `path` if needed and make sure a file can be written in it; InputError
     naming it otherwise. Called before any work starts."""
-    path = Path(path)
     if str(path) == "":
         raise InputError(f"{what}: empty path")
+    path = Path(path)
     if path.exists() and not path.is_dir():
         raise InputError(f"{what} {path}: exists and is not a directory")
     try:
@@ -259,9 +261,9 @@ def output_dir(path, what="output folder"):
 def output_file(path, what="output file", suffix=None):
     """A file path that can be written: not a directory, in a folder that can be written, with
     `suffix` (e.g. ".png") if given."""
-    path = Path(path)
-    if str(path) == "" or path.name in ("", ".", ".."):
+    if str(path) == "" or Path(path).name in ("", ".", ".."):
         raise InputError(f"{what} {str(path)!r}: not a file name")
+    path = Path(path)
     if path.is_dir():
         raise InputError(f"{what} {path}: is a directory; name a file")
     if suffix and path.suffix.lower() != suffix:

@@ -214,6 +214,8 @@ def test_render_refuses(files, capsys, argv, message):
     (["--cache-dir", "{files}/c", "--no-cache"], "not allowed with argument"),
     (["--contact-sheet", "{files}/a_dir"], "--contact-sheet {files}/a_dir: is a directory"),
     (["--contact-sheet", "{files}/sheet.pdf"], "--contact-sheet {files}/sheet.pdf: must end in .png"),
+    (["--contact-sheet", ""], "--contact-sheet '': not a file name"),
+    (["--cache-dir", ""], "--cache-dir: empty path"),
     (["--objects-per-class", "0"], "argument --objects-per-class: must be an integer from 1 to 20"),
     (["--views-per-object", "9"], "argument --views-per-object: must be an integer from 1 to 5"),
     (["--seed", "-1"], "argument --seed: must be an integer from 0 to 4294967295, got '-1'"),
@@ -232,6 +234,7 @@ def test_dataset_refuses(files, capsys, argv, message):
     (["--config", "{files}/model5.yaml"], "model must be a mapping of ModelConfig options"),
     (["--config", "{files}/a_dir"], "--config {files}/a_dir: is a directory, not a file"),
     (["--config", "{files}/missing.yaml"], "--config {files}/missing.yaml: no such file"),
+    (["--config", ""], "--config: empty path"),
     (["--out", "{files}/a_file"], "out {files}/a_file: exists and is not a directory"),
     (["--device", "tpu9"], "argument --device: must be cpu, cuda or cuda:N, got 'tpu9'"),
     (["--checkpoint-every", "0"], "argument --checkpoint-every: must be an integer >= 1, got '0'"),
@@ -285,6 +288,8 @@ def test_train_refuses(files, capsys, argv, message):
      "metrics {files}/box.stl: not a text file"),
     (["--learned-metrics", "{files}/preset.yaml"], "--learned-metrics and --reinforce-metrics go "
                                                    "together"),
+    (["--learned-metrics", ""], "--learned-metrics and --reinforce-metrics go together"),
+    (["--learned-metrics", "", "--reinforce-metrics", ""], "metrics: empty path"),
     (["--out", "{files}/a_file"], "out {files}/a_file: exists and is not a directory"),
     (["--split", "val"], "argument --split: invalid choice: 'val'"),
 ])
