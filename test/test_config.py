@@ -124,6 +124,8 @@ def test_an_integer_where_a_number_belongs_is_a_number():
     ("seed: 1\nseed: 2\n", "bad.yaml, line 2, column 1: duplicate key 'seed'"),
     ("- 1\n- 2\n", "bad.yaml: must hold a mapping of options, not a list"),
     ("model: {hidden_size: [1\n", "bad.yaml, line 2"),
+    ("[1, 2]: x\n", r"bad.yaml, line 1, column 1: a key must be a name, not \[1, 2\]"),
+    ("\t seed: 1\n", "bad.yaml, line 1, column 1: found character .* that cannot start any token"),
 ])
 def test_yaml_errors_name_the_file_and_the_line(tmp_path, text, message):
     (tmp_path / "bad.yaml").write_text(text)
