@@ -114,7 +114,11 @@ def read_fitting(path, config: ModelConfig, classes, resumable=False):
                                     "): use the same options, or another --out")
     if list(ckpt["classes"]) != list(classes):
         raise CheckpointError(path, f"classes {ckpt['classes']} are not the dataset's {list(classes)}")
-    if resumable and not all(k in ckpt for k in ("state", "optimizer", "elapsed")):
+    state = ckpt.get("state")
+    if resumable and not (isinstance(state, dict) and isinstance(ckpt.get("optimizer"), dict)
+                          and all(type(state.get(k)) is int and state[k] >= 0
+                                  for k in ("stage", "epoch", "batch", "step"))
+                          and type(ckpt.get("elapsed")) in (int, float)):
         raise CheckpointError(path, "holds no training state to resume from")
     return ckpt
 

@@ -402,7 +402,11 @@ def train(cfg: TrainConfig, progress=True):
         scale = cfg.lr_view_scale if stage == "joint" else 1.0
         opt = torch.optim.Adam([{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}])
         if opt_state is not None:
-            opt.load_state_dict(opt_state)
+            try:
+                opt.load_state_dict(opt_state)
+            except (ValueError, KeyError, TypeError, RuntimeError) as e:
+                raise checkpoint.CheckpointError(ckpt_path, f"its optimizer state does not fit this "
+                                                            f"run ({str(e)[:200]})") from None
             opt_state = None
         if stage == "pretrain":
             wrapper = PretrainLoss(model)

@@ -53,7 +53,8 @@ class Check:
         elif self.choices is not None:
             words = "one of " + ", ".join(map(str, self.choices))
         elif self.schema is not None:
-            words = f"a mapping of {self.schema.__name__} options ({', '.join(checks(self.schema))})"
+            names = ", ".join(checks(self.schema))
+            words = f"a mapping of {self.schema.__name__} options ({names})"
         elif self.kind is str and self.length == (1, None):
             words = "a non-empty string"
         else:

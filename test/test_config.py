@@ -154,7 +154,8 @@ def test_command_line_numbers_are_checked_by_the_same_rule():
     parse = arg(Check(int, lo=1, hi=50))
     assert parse("7") == 7
     for text in ("0", "51", "x", "1.5", "nan"):
-        with pytest.raises(argparse.ArgumentTypeError, match=f"must be an integer from 1 to 50, got '{text}'"):
+        message = f"must be an integer from 1 to 50, got '{text}'"
+        with pytest.raises(argparse.ArgumentTypeError, match=message):
             parse(text)
     with pytest.raises(argparse.ArgumentTypeError, match="got 'inf'"):
         arg(Check(float))("inf")

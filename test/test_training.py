@@ -191,6 +191,15 @@ def test_resuming_a_run_of_other_options_or_without_state_is_refused(tiny_tree, 
     with pytest.raises(CheckpointError, match=r"written with other model options \(hidden_size "
                                               r"8, this run 16\): use the same options"):
         train(other, progress=False)
+    final = checkpoint.read(run / "final.pt")
     (run / "final.pt").replace(run / "last.pt")  # a finished model has no training state
     with pytest.raises(CheckpointError, match="holds no training state to resume from"):
         train(tiny(tiny_tree, run, resume=True), progress=False)
+    state = {"stage": 1, "epoch": 0, "batch": 0, "step": 5}
+    for bad, reason in [({"state": {"stage": "x"}, "optimizer": {}, "elapsed": 1.0},
+                         "holds no training state"),
+                        ({"state": state, "optimizer": {"state": {}, "param_groups": []},
+                          "elapsed": 1.0}, "its optimizer state does not fit this run")]:
+        checkpoint.save(run / "last.pt", {**final, **bad})
+        with pytest.raises(CheckpointError, match=reason):
+            train(tiny(tiny_tree, run, resume=True), progress=False)
