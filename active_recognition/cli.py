@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """The `active-recognition` command: one entry point, a subcommand per job."""
 from __future__ import annotations
 
@@ -255,7 +269,8 @@ def cmd_demo(args):
                          "or source a ROS 2 install")
     from .nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
-             planner=args.planner, dataset=args.dataset, camera=args.camera)
+             planner=args.planner, dataset=args.dataset, camera=args.camera,
+             record=args.record or "")
 
 
 def add_demo(sub):
@@ -274,6 +289,9 @@ def add_demo(sub):
                    help="simulated camera: the model's own (64x64, 120 degrees), or "
                         "RealSense-like (640x480, fx = fy = 385, Kinect noise, 3 %% dropout, "
                         "flying pixels removed, a floor, 2 degrees of pose error)")
+    p.add_argument("--record", metavar="FILE.mcap", default=None,
+                   help="record every topic of the loop to this MCAP file (ros2 bag play, "
+                        "Foxglove)")
     p.set_defaults(func=cmd_demo)
 
 

@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """The depth layer: ray-cast a mesh from a view into a depth image, and differentiate it.
 
 `DepthCamera` holds one mesh in an embree scene. `trace` casts one ray per pixel and keeps the
@@ -31,6 +45,7 @@ _DEVICE = rtcore.EmbreeDevice()
 @dataclass(frozen=True)
 class CameraConfig:
     """Intrinsics and the viewing sphere. fov is horizontal, in radians; None = holds the cube."""
+
     height: int = 64
     width: int = 64
     radius: float = 1.0
@@ -77,6 +92,7 @@ def normalise_depth(z, config: CameraConfig):
 @dataclass
 class Hits:
     """The hit table of one batch: per view and pixel, the ray and what it hit."""
+
     origins: np.ndarray     # (B, 3) camera positions
     rotations: np.ndarray   # (B, 3, 3) view rotations (t = 0 frame -> world)
     distance: np.ndarray    # (B, N) ray length to the hit, inf on a miss

@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """The evaluation harness: every planner on the same objects, initial views and seeds.
 
 Reports accuracy after 1..T views (each planner with its own recurrent classifier, and every
@@ -191,7 +205,7 @@ def summary(results):
         return {str(k): round(float(acc[k - 1]), 4) for k in (3, 6, 9) if k <= len(acc)}
     s = {"acc": {n: at(ro) for n, ro in results.items()},
          "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
-         "early_stop": {n: dict(zip(("accuracy", "mean_views"), map(lambda v: round(v, 4), ro.early_stop())))
+         "early_stop": {n: dict(zip(("accuracy", "mean_views"), (round(v, 4) for v in ro.early_stop())))
                         for n, ro in results.items()}}
     three = next(iter(results.values())).probs.shape[1] >= 3  # episodes of 3 views or more
     if three:

@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """A single-object recognizer for a robot: metric depth in, probabilities and next view out.
 
 Wraps one Episode (B = 1) with what a real camera needs: every image, with its K and the pose it
@@ -18,8 +32,8 @@ import torch
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import MAX_VIEWS, Episode, EpisodeConfig
-from .reprojection import auto_standoff, reproject
 from .policies import PLANNERS, make_planner
+from .reprojection import auto_standoff, reproject
 from .validation import InputError, option, validate
 
 NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
@@ -156,4 +170,3 @@ class ActiveRecognizer:
 
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])
-

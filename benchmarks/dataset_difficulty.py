@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """How much does the choice of view matter on a dataset? One view-pooling classifier (the shared
 classifier of the evaluation, 64x64 depth) is trained on random views of the train split and
 scores the test split's objects at the 50 initial views:
@@ -69,10 +83,10 @@ def main():
     acc3_best = best_subset_accuracy(net, feats, labels, 3)
     print(f"fixed path: views {np.round(fixed, 3).tolist()} (train accuracy {train_acc:.3f})")
     result = {"dataset": args.dataset, "acc_1_view": acc1, "acc_3_random": acc3_random,
-          "acc_3_best": acc3_best, "acc_3_best_fixed": acc3_fixed, "acc_9_views": acc9,
-          "headroom_best_vs_random": acc3_best - acc3_random,
-          "headroom_best_vs_fixed": acc3_best - acc3_fixed, "test_objects": len(idx),
-          "seconds": round(time.perf_counter() - t0, 1)}
+              "acc_3_best": acc3_best, "acc_3_best_fixed": acc3_fixed, "acc_9_views": acc9,
+              "headroom_best_vs_random": acc3_best - acc3_random,
+              "headroom_best_vs_fixed": acc3_best - acc3_fixed, "test_objects": len(idx),
+              "seconds": round(time.perf_counter() - t0, 1)}
     result = {k: round(v, 4) if isinstance(v, float) else v for k, v in result.items()}
     if args.out:
         write_json(Path(args.out), result)

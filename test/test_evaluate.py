@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 import csv
 import json
 import math
@@ -56,6 +70,7 @@ def test_information_gain_sums_to_the_entropy_drop(results):
 def test_oracle_is_never_worse_than_random_on_average(results):
     res = results[0]
     # the oracle minimises the next entropy; on average its confidence in its answer is higher
+
     def mean_entropy(ro):
         p = ro.probs[:, 1:]
         return (-(p * np.log(np.clip(p, 1e-12, None))).sum(-1)).mean()

@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """Any depth camera into the model's camera: round trips, analytic geometry, floors, sensors."""
 import math
 
@@ -5,7 +19,7 @@ import numpy as np
 import pytest
 
 from active_recognition import geometry
-from active_recognition.depth_layer import MISS, CameraConfig, DepthCamera
+from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.reprojection import auto_standoff, fill_holes, reproject, support_height
 from active_recognition.simulated_camera import (SensorConfig, SimulatedCamera, kinect_sigma,

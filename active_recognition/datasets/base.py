@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """What every dataset is: a list of (source, label) per split, meshes loaded once and cached."""
 from __future__ import annotations
 
@@ -53,6 +67,7 @@ def load_npz(path: Path, keys):
 @dataclass
 class ShapeDataset:
     """Shapes of one split. `items` are (source, label); `mesh(i)` gives normalised arrays."""
+
     name: str
     classes: list
     split: str

@@ -1,9 +1,23 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """A plain folder: root/<class>/*.<ext> for any mesh format, deterministic split."""
 from __future__ import annotations
 
+from .base import ShapeDataset, check_root, check_split, in_split
 from ..meshes import SUFFIXES
 from ..validation import InputError
-from .base import ShapeDataset, check_root, check_split, in_split
 
 
 def folder(root, split="train", cache_dir=None, test_fraction=0.2):

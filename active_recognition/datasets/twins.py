@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """An embedded benchmark where the choice of view decides: six pairs of look-alike furniture.
 
 Every class is a piece of furniture with a deep niche in one face. The two classes of a pair
@@ -15,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from ..meshes import normalise
 from .procedural import box, cylinder
+from ..meshes import normalise
 
 # (base, axis, sign): the face whose niche tells the pair apart
 PAIRS = (("nightstand", 1, -1),   # front

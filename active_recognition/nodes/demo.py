@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """The closed-loop demo: recognizer + simulated camera in one process, over real topics."""
 import json
 import threading
@@ -54,8 +68,9 @@ def ros_session(args=None):
     try:
         yield ctx, executor
     finally:
+        nodes = executor.get_nodes()  # before shutdown, which forgets them
         executor.shutdown()
-        for node in list(executor.get_nodes()):
+        for node in nodes:
             node.destroy_node()
         rclpy.try_shutdown(context=ctx)
 
@@ -91,10 +106,11 @@ def recognize(executor, client, timeout=10.0):
 
 
 def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="auto",
-             dataset="procedural", camera="virtual"):
+             dataset="procedural", camera="virtual", record=""):
     """Recognise `objects` test objects of an embedded dataset in turn (with that dataset's
     shipped model unless `checkpoint` names one) through a simulated `camera` ("virtual" or
-    "realsense", simulated_camera.PRESETS); returns the summary dict."""
+    "realsense", simulated_camera.PRESETS), recording every topic to the .mcap file `record`
+    if given; returns the summary dict."""
     test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
     if not 1 <= objects <= len(test):
         raise InputError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")
@@ -111,12 +127,16 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             Parameter("seed", value=seed)])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
             Parameter("checkpoint", value=checkpoint),
-            Parameter("seed", value=seed), Parameter("planner", value=planner)])
+            Parameter("seed", value=seed), Parameter("planner", value=planner),
+            Parameter("record", value=record)])
         client = DemoClient(context=ctx)
         for node in (camera, recognizer, client):
             executor.add_node(node)
         if not spin_until(executor, client.reset.service_is_ready, 10.0):
             raise RuntimeError("the recognizer's reset service did not appear")
+        recorder = recognizer.recorder
+        if recorder is not None and not spin_until(executor, recorder.ready, 10.0):
+            raise RuntimeError("the recorder's subscriptions found no publishers")
         rows = []
         for n, index in enumerate(order):
             camera.set_parameters([Parameter("index", value=int(index))])
@@ -145,4 +165,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             f"accuracy {summary['accuracy']:.2f} over {summary['objects']} objects, "
             f"mean views {summary['mean_views']:.1f}, "
             f"median {summary['ms_per_episode_p50']:.0f} ms per episode")
-        return summary
+    if recorder is not None:  # the session has closed it
+        summary["recorded"] = dict(recorder.counts)
+        out(f"recorded {sum(recorder.counts.values())} messages on {len(recorder.counts)} topics "
+            f"to {recorder.path}")
+    return summary

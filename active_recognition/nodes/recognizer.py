@@ -1,3 +1,17 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
 """recognizer: depth images in, class probabilities and the next view out (one object at a time).
 
 Any depth camera: each image is paired with the latest CameraInfo and with the camera pose of
@@ -19,8 +33,9 @@ from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.nodes import check_parameter, declare_parameters, run_node
 from active_recognition.episode import EpisodeConfig
+from active_recognition.nodes import check_parameter, declare_parameters, run_node
+from active_recognition.nodes.recorder import Recorder
 from active_recognition.recognizer import NODE_PLANNERS, ActiveRecognizer, SensingConfig
 from active_recognition.validation import SEED_MAX, Check, InputError, checks
 
@@ -45,6 +60,8 @@ PARAMS = {  # name: (default, type, description)
                                         "pixels) are not classified"),
     "max_empty_views": (3, INT, "this many empty images in a row end the episode: no_object"),
     "box_margin": (0.1, DBL, "keep points this far (x object_size) outside the object's box"),
+    "record": ("", STR, "an .mcap file to record every topic of the loop to (from start to "
+                        "shutdown); empty = off"),
 }
 SENSING = ("object_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin")
 CHECKS = {**checks(EpisodeConfig), **checks(SensingConfig),
@@ -79,6 +96,9 @@ class Recognizer(Node):
         self.create_subscription(Image, "depth/image", self.on_image, qos_profile_sensor_data)
         self.create_service(Trigger, "~/reset", self.on_reset)
         self.create_timer(0.01, self.on_timer)
+        self.recorder = Recorder(self, p["record"]) if p["record"] else None
+        if self.recorder is not None:
+            self.get_logger().info(f"recording the loop's topics to {self.recorder.path}")
         self.pub_classes.publish(String(data=json.dumps(self.core.classes)))
         self.received = self.processed = self.idle = self.stale = self.rejected = self.empty = 0
         self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
@@ -87,6 +107,13 @@ class Recognizer(Node):
         self.expect_poses = True  # until an image has waited in vain for its pose
         self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, "
                                f"planner {self.core.planner}")
+
+    def destroy_node(self):
+        if self.recorder is not None:
+            self.get_logger().info(f"recorded {sum(self.recorder.counts.values())} messages to "
+                                   f"{self.recorder.close()}")
+            self.recorder = None
+        super().destroy_node()
 
     def once(self, key, text):
         if key not in self.told:

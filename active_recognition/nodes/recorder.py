@@ -1,0 +1,143 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Record every topic of the loop to an MCAP file, as `ros2 bag record -s mcap` would.
+
+Subscriptions take the serialized (CDR) bytes as they came over DDS; each channel carries its
+type's complete ros2msg definition (msg_adapters.definitions), so rosbag2, Foxglove and the mcap
+readers decode the file without this package. The file is written under a temporary name beside
+the target and renamed into place when the recorder closes.
+"""
+import os
+import threading
+import time
+from collections import Counter
+from functools import partial
+from pathlib import Path
+
+from geometry_msgs.msg import PoseStamped
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
+from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data
+from sensor_msgs.msg import CameraInfo, Image
+from std_msgs.msg import Float32MultiArray, String
+from visualization_msgs.msg import MarkerArray
+
+from msg_adapters.definitions import message_definition
+
+RELIABLE = QoSProfile(depth=100)
+LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
+SENSOR = QoSProfile(depth=100, reliability=qos_profile_sensor_data.reliability)
+TOPICS = {  # the loop's topics: (type, how to subscribe so that every publisher matches)
+    "depth/image": (Image, SENSOR),
+    "depth/camera_info": (CameraInfo, SENSOR),
+    "camera/pose": (PoseStamped, SENSOR),
+    "next_view": (PoseStamped, RELIABLE),
+    "recognition/probabilities": (Float32MultiArray, RELIABLE),
+    "recognition/label": (String, RELIABLE),
+    "recognition/result": (String, RELIABLE),
+    "recognition/views": (MarkerArray, RELIABLE),
+    "recognition/classes": (String, LATCHED),
+}
+
+
+def type_name(kind):
+    """sensor_msgs.msg.Image -> 'sensor_msgs/msg/Image'."""
+    return f"{kind.__module__.split('.')[0]}/msg/{kind.__name__}"
+
+
+def qos_metadata(qos):
+    """The channel's offered_qos_profiles, in the YAML form rosbag2 (Jazzy) writes."""
+    forever = "\n    sec: 9223372036\n    nsec: 854775807"  # RMW_DURATION_INFINITE
+    return (f"- history: {qos.history.name.lower()}\n  depth: {qos.depth}\n"
+            f"  reliability: {qos.reliability.name.lower()}\n"
+            f"  durability: {qos.durability.name.lower()}\n"
+            f"  deadline:{forever}\n  lifespan:{forever}\n"
+            f"  liveliness: {qos.liveliness.name.lower()}\n"
+            f"  liveliness_lease_duration:{forever}\n"
+            "  avoid_ros_namespace_conventions: false")
+
+
+def check_path(path):
+    """The target as a Path, or a ValueError that says what is wrong with it."""
+    target = Path(path).expanduser()
+    if target.suffix != ".mcap":
+        raise ValueError(f"record: {path!r} must be a file name ending in .mcap")
+    if not target.parent.is_dir():
+        raise ValueError(f"record: {path!r}: folder {str(target.parent)!r} does not exist")
+    if target.is_dir():
+        raise ValueError(f"record: {path!r} is a folder")
+    return target
+
+
+class Recorder:
+    """Subscribes `node` to `topics` and writes what arrives to `path` until close()."""
+
+    def __init__(self, node, path, topics=None):
+        self.path = check_path(path)
+        try:
+            from mcap.writer import Writer
+        except ImportError:
+            raise ValueError("record: needs the mcap package (pip install mcap, or rosdep install "
+                             "with rosdep/active_recognition.yaml)") from None
+        self.node, self.lock, self.counts = node, threading.Lock(), Counter()
+        self.partial = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
+        self.file = open(self.partial, "wb")
+        self.writer = Writer(self.file)
+        self.writer.start(profile="ros2", library="active_recognition recorder")
+        group = MutuallyExclusiveCallbackGroup()
+        self.subscriptions, schemas = [], {}
+        for topic, (kind, qos) in (topics or TOPICS).items():
+            name = type_name(kind)
+            if name not in schemas:
+                schemas[name] = self.writer.register_schema(
+                    name=name, encoding="ros2msg", data=message_definition(name).encode())
+            full = node.resolve_topic_name(topic)
+            channel = self.writer.register_channel(
+                topic=full, message_encoding="cdr", schema_id=schemas[name],
+                metadata={"offered_qos_profiles": qos_metadata(qos)})
+            self.subscriptions.append(node.create_subscription(
+                kind, topic, partial(self.on_message, full, channel), qos, raw=True,
+                callback_group=group))
+
+    def ready(self):
+        """Whether every topic has a publisher matched (the demo waits for this)."""
+        return all(s.get_publisher_count() > 0 for s in self.subscriptions)
+
+    def on_message(self, topic, channel, data):
+        now = time.time_ns()
+        with self.lock:
+            if self.writer is None:
+                return
+            self.writer.add_message(channel_id=channel, log_time=now, data=data,
+                                    publish_time=now, sequence=self.counts[topic])
+            self.counts[topic] += 1
+
+    def close(self):
+        """Finish the file and move it into place; returns its path."""
+        with self.lock:
+            if self.writer is None:
+                return self.path
+            for sub in self.subscriptions:
+                self.node.destroy_subscription(sub)
+            try:
+                self.writer.finish()
+                self.file.close()
+                os.replace(self.partial, self.path)
+            except BaseException:
+                self.file.close()
+                os.unlink(self.partial)
+                raise
+            finally:
+                self.writer = None
+        return self.path

@@ -1,0 +1,94 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The launch file names only what the package builds and installs (launch has no wheel, so the
+file is parsed, not run)."""
+import os
+import re
+import runpy
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from unittest import mock
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+LAUNCH = ROOT / "launch" / "active_recognition.launch.xml"
+SHARE = "$(find-pkg-share active_recognition)/"
+
+
+def setup_kwargs():
+    """What setup.py hands to setuptools.setup (run from the package root, as colcon does)."""
+    captured, cwd = {}, os.getcwd()
+    with mock.patch("setuptools.setup", lambda **kwargs: captured.update(kwargs)):
+        try:
+            os.chdir(ROOT)  # its globs are relative
+            runpy.run_path(str(ROOT / "setup.py"))
+        finally:
+            os.chdir(cwd)
+    return captured
+
+
+def installed(kwargs):
+    """{install path relative to the prefix: source path} of setup.py's data_files."""
+    return {f"{dest}/{Path(src).name}": src for dest, srcs in kwargs["data_files"] for src in srcs}
+
+
+def launch_problems(path, kwargs):
+    """Each executable, package and parameter file the launch file names that does not exist."""
+    root = ET.parse(path).getroot()
+    package = ET.parse(ROOT / "package.xml").getroot().findtext("name")
+    executables = {s.split("=")[0].strip() for s in kwargs["entry_points"]["console_scripts"]}
+    files = installed(kwargs)
+    args = {a.get("name"): a.get("default") for a in root.iter("arg")}
+    problems = []
+    for node in root.iter("node"):
+        where = f"node {node.get('name')!r}"
+        if node.get("pkg") != package:
+            problems.append(f"{where}: package {node.get('pkg')!r} is not {package!r}")
+        if node.get("exec") not in executables:
+            problems.append(f"{where}: executable {node.get('exec')!r} is not a console script")
+        for param in node.iter("param"):
+            source = re.sub(r"\$\(var (\w+)\)", lambda m: args.get(m.group(1)) or "", param.get("from", ""))
+            if not source.startswith(SHARE):
+                problems.append(f"{where}: parameter file {source!r} is not in the package's share")
+                continue
+            relative = source[len(SHARE):]
+            if f"share/{package}/{relative}" not in files or not (ROOT / relative).is_file():
+                problems.append(f"{where}: parameter file {relative!r} is not installed by setup.py")
+            elif node.get("name") not in yaml.safe_load((ROOT / relative).read_text()):
+                problems.append(f"{where}: {relative} has no section for this node's name")
+    return problems
+
+
+def test_launch_file_starts_both_nodes_with_their_installed_parameter_files():
+    kwargs = setup_kwargs()
+    root = ET.parse(LAUNCH).getroot()
+    assert root.tag == "launch"
+    assert sorted(n.get("exec") for n in root.iter("node")) == ["recognizer", "simulated_camera"]
+    assert launch_problems(LAUNCH, kwargs) == []
+    assert "share/active_recognition/launch/active_recognition.launch.xml" in installed(kwargs)
+
+
+@pytest.mark.parametrize("change,problem", [
+    (('exec="recognizer"', 'exec="recogniser"'), "executable 'recogniser' is not a console script"),
+    (('pkg="active_recognition" exec="recognizer"', 'pkg="other" exec="recognizer"'), "package 'other'"),
+    (("config/recognizer.yaml", "config/missing.yaml"), "'config/missing.yaml' is not installed"),
+    (("config/recognizer.yaml", "config/simulated_camera.yaml"), "no section for this node's name"),
+])
+def test_a_launch_file_naming_what_does_not_exist_is_caught(tmp_path, change, problem):
+    bad = tmp_path / "bad.launch.xml"
+    bad.write_text(LAUNCH.read_text().replace(*change))
+    assert any(problem in p for p in launch_problems(bad, setup_kwargs())), problem

@@ -1,0 +1,88 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""package.xml: valid, in step with setup.py, and every key resolves with rosdep on ROS 2
+Jazzy's platform (Ubuntu 24.04), offline: ROS's rules for the keys it names are copied into
+test/data/rosdep, the package's own are rosdep/active_recognition.yaml."""
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from catkin_pkg.package import parse_package
+
+ROOT = Path(__file__).resolve().parents[1]
+DATA = ROOT / "test" / "data" / "rosdep"
+# setup.py's install_requires -> the rosdep key that installs it
+KEYS = {"numpy": "python3-numpy", "torch": "python3-torch-pip", "trimesh": "python3-trimesh-pip",
+        "embreex": "python3-embreex-pip", "tqdm": "python3-tqdm",
+        "matplotlib": "python3-matplotlib", "pyyaml": "python3-yaml"}
+
+
+@pytest.fixture(scope="module")
+def rosdep(tmp_path_factory):
+    """Run the real rosdep against the package's rules and the copied ones, offline."""
+    home = tmp_path_factory.mktemp("rosdep")
+    (home / "sources.list.d").mkdir()
+    (home / "sources.list.d" / "10-test.list").write_text(
+        f"yaml file://{ROOT / 'rosdep' / 'active_recognition.yaml'}\n"
+        f"yaml file://{DATA / 'rosdistro_python.yaml'}\n")
+    env = {**os.environ, "ROSDEP_SOURCE_PATH": str(home / "sources.list.d"), "ROS_HOME": str(home),
+           "ROSDISTRO_INDEX_URL": f"file://{DATA / 'index-v4.yaml'}", "ROS_DISTRO": "jazzy",
+           "ROS_PYTHON_VERSION": "3"}
+    exe = Path(sys.executable).with_name("rosdep")
+
+    def run(*args):
+        return subprocess.run([str(exe), *args], env=env, capture_output=True, text=True, timeout=120)
+    update = run("update", "--rosdistro", "jazzy")
+    assert update.returncode == 0, update.stderr
+    return run
+
+
+def test_package_xml_is_valid_and_matches_setup_py():
+    package = parse_package(str(ROOT / "package.xml"))
+    package.validate()
+    setup = (ROOT / "setup.py").read_text()
+    assert f'version="{package.version}"' in setup
+    assert [str(lic) for lic in package.licenses] == ["Apache-2.0"]
+    requires = re.search(r"install_requires=\[(.*?)\]", setup, re.S).group(1)
+    names = {re.split(r"[<>=]", r)[0] for r in re.findall(r'"([^"]+)"', requires)} - {"setuptools"}
+    exec_keys = {d.name for d in package.exec_depends}
+    assert set(KEYS) == names, "a requirement of setup.py has no rosdep key in KEYS"
+    assert {KEYS[n] for n in names} <= exec_keys, "package.xml misses a key of setup.py's requirements"
+    assert "python3-embreex-pip" in exec_keys and "python3-yaml" in exec_keys
+
+
+def test_every_key_resolves_on_jazzy(rosdep):
+    keys = rosdep("keys", "--from-paths", str(ROOT)).stdout.split()
+    assert "rclpy" in keys and "python3-torch-pip" in keys
+    resolved = rosdep("resolve", *keys, "--os=ubuntu:noble", "--rosdistro=jazzy")
+    assert resolved.returncode == 0, resolved.stderr
+    # each key gives "#ROSDEP[key]", "#installer", then the packages
+    rules = {key: (installer, packages) for key, installer, packages
+             in re.findall(r"#ROSDEP\[(\S+)\]\n#(\w+)\n(.+)", resolved.stdout)}
+    assert set(rules) == set(keys)
+    assert rules["python3-embreex-pip"] == ("pip", "embreex")
+    assert rules["python3-torch-pip"] == ("pip", "torch")
+    assert rules["python3-yaml"] == ("apt", "python3-yaml")
+    assert rules["rclpy"] == ("apt", "ros-jazzy-rclpy")
+
+
+def test_a_key_rosdep_does_not_know_is_reported(rosdep):
+    # python3-torch is ROS's key, but Jazzy's Ubuntu has no torch: hence python3-torch-pip
+    for key in ("python3-torch", "python3-embreex"):
+        resolved = rosdep("resolve", key, "--os=ubuntu:noble", "--rosdistro=jazzy")
+        assert resolved.returncode != 0 and f"no rosdep rule for '{key}'" in resolved.stderr

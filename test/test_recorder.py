@@ -1,0 +1,120 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""MCAP recording: complete message definitions, and a recorded demo read back by mcap_ros2."""
+from collections import Counter
+
+import numpy as np
+import pytest
+
+rclpy = pytest.importorskip("rclpy")
+from mcap.reader import make_reader  # noqa: E402
+from mcap.records import Schema  # noqa: E402
+from mcap_ros2.decoder import DecoderFactory  # noqa: E402
+from mcap_ros2.reader import read_ros2_messages  # noqa: E402
+from rclpy.publisher import Publisher  # noqa: E402
+from rclpy.serialization import serialize_message  # noqa: E402
+
+import msg_adapters as ma  # noqa: E402
+from active_recognition.nodes.demo import run_demo  # noqa: E402
+from active_recognition.nodes.recorder import TOPICS, check_path, type_name  # noqa: E402
+from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
+
+
+def test_a_definition_holds_the_type_and_every_type_it_uses_once():
+    text = message_definition("sensor_msgs/msg/CameraInfo")
+    sections = text.split(SEPARATOR + "\n")
+    assert "float64[9]  k" in sections[0] and "RegionOfInterest roi" in sections[0]
+    names = [s.splitlines()[0] for s in sections[1:]]
+    assert sorted(names) == ["MSG: builtin_interfaces/msg/Time", "MSG: sensor_msgs/msg/RegionOfInterest",
+                             "MSG: std_msgs/msg/Header"]
+
+
+@pytest.mark.parametrize("topic", sorted(TOPICS))
+def test_an_independent_decoder_reads_rclpy_bytes_with_our_definition(topic):
+    kind = TOPICS[topic][0]
+    msg = kind()
+    if kind.__name__ == "Image":
+        msg = ma.metres_to_image(np.arange(12, dtype=np.float32).reshape(3, 4), None, "cam")
+    elif kind.__name__ == "MarkerArray":
+        msg = ma.view_markers([(0.3, 1.2), (0.5, 2.0)], 1.5, "object")
+    elif kind.__name__ == "String":
+        msg.data = "chair"
+    schema = Schema(id=1, name=type_name(kind), encoding="ros2msg",
+                    data=message_definition(type_name(kind)).encode())
+    decode = DecoderFactory().decoder_for("cdr", schema)
+    decoded = decode(serialize_message(msg))
+    if kind.__name__ == "Image":
+        assert (decoded.height, decoded.width, decoded.encoding) == (3, 4, "32FC1")
+        assert decoded.header.frame_id == "cam"
+    elif kind.__name__ == "MarkerArray":
+        assert len(decoded.markers) == len(msg.markers) and decoded.markers[0].ns == msg.markers[0].ns
+        assert decoded.markers[-1].pose.position.x == pytest.approx(msg.markers[-1].pose.position.x)
+    elif kind.__name__ == "String":
+        assert decoded.data == "chair"
+
+
+@pytest.mark.parametrize("name,why", [("no/such/Type", "expected package/msg/Type"),
+                                      ("sensor_msgs/msg/NoSuchType", "no share/sensor_msgs/msg/NoSuchType.msg")])
+def test_an_unknown_type_is_named(name, why):
+    with pytest.raises(ma.AdapterError, match=why):
+        message_definition(name)
+
+
+@pytest.mark.parametrize("path,why", [("run.bag", "ending in .mcap"), ("missing/run.mcap", "does not exist")])
+def test_a_bad_record_path_is_named(tmp_path, path, why):
+    with pytest.raises(ValueError, match=f"record: .*{why}"):
+        check_path(tmp_path / path)
+
+
+def test_a_recorded_demo_holds_every_message_the_loop_published(tmp_path, monkeypatch):
+    published, images = Counter(), {}
+    publish = Publisher.publish
+
+    def counting(self, msg):
+        published[self.topic_name] += 1
+        if self.topic_name == "/depth/image":
+            images[(msg.header.stamp.sec, msg.header.stamp.nanosec)] = ma.image_to_metres(msg)
+        return publish(self, msg)
+
+    monkeypatch.setattr(Publisher, "publish", counting)
+    path = tmp_path / "run.mcap"
+    summary = run_demo(objects=2, seed=1, out=lambda line: None, record=str(path))
+    assert summary["answered"] == 2
+    assert [p.name for p in tmp_path.iterdir()] == ["run.mcap"]  # no temporary file left
+
+    recorded, first_image = Counter(), None
+    for m in read_ros2_messages(str(path)):
+        recorded[m.channel.topic] += 1
+        if m.channel.topic == "/depth/image" and first_image is None:
+            first_image = m.ros_msg
+    loop = {"/depth/image", "/depth/camera_info", "/camera/pose", "/next_view", "/recognition/label",
+            "/recognition/probabilities", "/recognition/result", "/recognition/views",
+            "/recognition/classes"}
+    assert set(recorded) == loop
+    assert recorded == Counter({t: n for t, n in published.items() if t in loop})
+    assert recorded["/recognition/result"] == 2 and recorded["/recognition/classes"] == 1
+    stamp = (first_image.header.stamp.sec, first_image.header.stamp.nanosec)
+    np.testing.assert_array_equal(ma.image_to_metres(first_image), images[stamp])
+
+    with open(path, "rb") as f:  # the ros2 profile as rosbag2 writes it
+        reader = make_reader(f)
+        header, summary = reader.get_header(), reader.get_summary()
+    assert header.profile == "ros2"
+    assert {s.encoding for s in summary.schemas.values()} == {"ros2msg"}
+    assert {c.message_encoding for c in summary.channels.values()} == {"cdr"}
+    assert all("offered_qos_profiles" in c.metadata for c in summary.channels.values())
+    schema = {c.topic: summary.schemas[c.schema_id].name for c in summary.channels.values()}
+    assert schema["/depth/image"] == "sensor_msgs/msg/Image"
+    assert schema["/recognition/views"] == "visualization_msgs/msg/MarkerArray"
