@@ -20,7 +20,7 @@ import math
 import os
 import sys
 
-from .validation import SEED_MAX, Check, InputError, arg, arg_of, output_dir, output_file
+from .validation import Check, InputError, SEED_MAX, arg, arg_of, output_dir, output_file
 
 SEED = arg(Check(int, lo=0, hi=SEED_MAX))
 

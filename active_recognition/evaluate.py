@@ -37,7 +37,7 @@ from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
 from .train import Shapes
-from .validation import (SEED_MAX, Check, InputError, input_file, option, output_dir,
+from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
                          validate)
 
 

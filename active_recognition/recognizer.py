@@ -31,7 +31,7 @@ import torch
 
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
-from .episode import MAX_VIEWS, Episode, EpisodeConfig
+from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .policies import PLANNERS, make_planner
 from .reprojection import auto_standoff, reproject
 from .validation import InputError, option, validate

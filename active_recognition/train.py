@@ -40,11 +40,11 @@ from tqdm import tqdm
 
 from . import checkpoint, geometry
 from .datasets import NAMES, default_cache_dir, open_dataset
-from .depth_layer import GRADIENT_RULES, CameraConfig, DepthCamera
+from .depth_layer import CameraConfig, DepthCamera, GRADIENT_RULES
 from .episode import Episode, EpisodeConfig, run
 from .model import ModelConfig, RecurrentAttention
 from .policies import lookahead_logits, visited_mask
-from .validation import SEED_MAX, Check, InputError, option, output_dir, validate
+from .validation import Check, InputError, SEED_MAX, option, output_dir, validate
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")

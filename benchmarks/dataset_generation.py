@@ -1,3 +1,18 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+
 """How long the embedded benchmarks take to generate: every shape of both splits of procedural
 (2,500) and twins (3,000) built from primitives, without the cache (what a first run pays once),
 then read back from a fresh cache. The README's "generated in seconds" rests on this.

@@ -1,3 +1,18 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+
 """The active-recognition command: each subcommand's normal path, and bad input ending in one clear
 message (exit status 2, the problem named, no traceback). Tiny datasets and models: seconds."""
 import json
@@ -139,8 +154,8 @@ def test_train_then_evaluate_through_the_command(trained, tiny_tree, tmp_path, c
     assert len(rows) == 1 + 2 * 3  # header, 3 test objects per planner
 
 
-def test_evaluate_retrains_a_damaged_judge_and_handles_episodes_under_3_views(trained, tiny_tree,
-                                                                             tmp_path, capsys):
+def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, tiny_tree, tmp_path,
+                                                                      capsys):
     out = tmp_path / "eval"
     out.mkdir()
     (out / "shared_classifier.pt").write_bytes(b"half a file")
@@ -155,8 +170,8 @@ def test_evaluate_retrains_a_damaged_judge_and_handles_episodes_under_3_views(tr
     assert "| random | - | - | - |" in (out / "report.md").read_text()
 
 
-def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, tiny_tree, tmp_path,
-                                                                          capsys):
+def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, tiny_tree,
+                                                                         tmp_path, capsys):
     out = tmp_path / "run"
     status, stdout, err = run(["train", "--config", files / "preset.yaml", *TINY_TRAIN, "--root",
                                tiny_tree, "--out", out, "--eval-shapes", 0], capsys)

@@ -16,13 +16,13 @@
 (procedural, twins)."""
 from __future__ import annotations
 
-from ..validation import InputError
 from .base import ShapeDataset, default_cache_dir
 from .folder import folder
 from .modelnet import modelnet
 from .procedural import procedural
 from .shapenet import shapenet
 from .twins import twins
+from ..validation import InputError
 
 NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
 GENERATED = {"procedural": procedural, "twins": twins}

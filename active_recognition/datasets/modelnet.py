@@ -15,8 +15,8 @@
 """ModelNet10 / ModelNet40: root/<class>/{train,test}/*.off, the official split."""
 from __future__ import annotations
 
-from ..validation import InputError
 from .base import SPLITS, ShapeDataset, check_root, check_split
+from ..validation import InputError
 
 
 def modelnet(root, split="train", cache_dir=None):

@@ -266,8 +266,8 @@ def generated(name, classes, make, version, split="train", cache_dir=None, seed=
     if cache_dir is not None:
         from pathlib import Path
         path = Path(cache_dir) / name / f"v{version}-s{seed}-{split}-{per_class}.npz"
-    cached = None if path is None else load_npz(path, ("vertices", "faces", "vertex_offsets",
-                                                         "face_offsets"))
+    keys = ("vertices", "faces", "vertex_offsets", "face_offsets")
+    cached = None if path is None else load_npz(path, keys)
     if cached is not None and len(cached[2]) == len(items) + 1:
         v, f, vo, fo = cached
         for i in range(len(items)):

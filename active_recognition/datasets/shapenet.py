@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import json
 
-from ..validation import InputError
 from .base import ShapeDataset, check_root, check_split, in_split
+from ..validation import InputError
 
 
 def synset_names(root):

@@ -36,8 +36,8 @@ import msg_adapters as ma
 from active_recognition.episode import EpisodeConfig
 from active_recognition.nodes import check_parameter, declare_parameters, run_node
 from active_recognition.nodes.recorder import Recorder
-from active_recognition.recognizer import NODE_PLANNERS, ActiveRecognizer, SensingConfig
-from active_recognition.validation import SEED_MAX, Check, InputError, checks
+from active_recognition.recognizer import ActiveRecognizer, NODE_PLANNERS, SensingConfig
+from active_recognition.validation import Check, InputError, SEED_MAX, checks
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
 INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL

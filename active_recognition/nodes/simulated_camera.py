@@ -32,7 +32,7 @@ from active_recognition.datasets import NAMES
 from active_recognition.datasets.base import SPLITS
 from active_recognition.nodes import check_parameter, declare_parameters, run_node
 from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
-from active_recognition.validation import SEED_MAX, Check, InputError, checks
+from active_recognition.validation import Check, InputError, SEED_MAX, checks
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
 INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
