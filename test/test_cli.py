@@ -324,6 +324,8 @@ def test_evaluate_refuses_before_any_work(files, trained, tiny_tree, capsys, arg
     (["--checkpoint", "{files}/missing.pt"], "checkpoint {files}/missing.pt: no such file"),
     (["--dataset", "twins", "--checkpoint", "{shipped}"], "its classes ['bathtub', 'bed'"),
     (["--planner", "oracle"], "argument --planner: invalid choice: 'oracle'"),
+    (["--record", "{files}/run.txt"], "record: '{files}/run.txt' must be a file name ending in .mcap"),
+    (["--record", "{files}/nowhere/run.mcap"], "folder '{files}/nowhere' does not exist"),
 ])
 def test_demo_refuses(files, capsys, argv, message):
     import_ros("rclpy")
