@@ -26,6 +26,7 @@ from pathlib import Path
 import torch
 
 from .model import ModelConfig, RecurrentAttention
+from .validation import InputError, check_mapping
 
 FORMAT = "active_recognition/1"
 SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
@@ -34,11 +35,11 @@ SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
 def shipped(dataset="procedural"):
     """The shipped model of an embedded dataset."""
     if dataset not in ("procedural", "twins"):
-        raise ValueError(f"shipped models exist for procedural and twins, not {dataset!r}")
+        raise InputError(f"shipped models exist for procedural and twins, not {dataset!r}")
     return SHIPPED.with_name(f"{dataset}.pt")
 
 
-class CheckpointError(ValueError):
+class CheckpointError(InputError):
     """A checkpoint file that is not ours or does not fit; the message says which and why."""
 
     def __init__(self, path, reason):
@@ -69,7 +70,7 @@ def read_any(path):
     """Load any of our checkpoint dicts (models, shared classifiers) safely."""
     path = Path(path)
     if not path.is_file():
-        raise CheckpointError(path, "no such file")
+        raise CheckpointError(path, "is a directory, not a file" if path.is_dir() else "no such file")
     if not zipfile.is_zipfile(path):
         raise CheckpointError(path, "unreadable: not a torch checkpoint file (truncated or foreign)")
     try:
@@ -89,8 +90,8 @@ def read_any(path):
 def build_model(ckpt, path="<checkpoint>"):
     """The model a checkpoint dict describes, with its weights; CheckpointError on any mismatch."""
     try:
-        config = ModelConfig(**ckpt["model_args"])
-    except (TypeError, AssertionError) as e:
+        config = ModelConfig(**check_mapping(ModelConfig, ckpt["model_args"], "model_args."))
+    except InputError as e:
         raise CheckpointError(path, f"bad model_args ({e})") from None
     classes = ckpt["classes"]
     if not isinstance(classes, list) or len(classes) != config.num_classes:
@@ -101,7 +102,39 @@ def build_model(ckpt, path="<checkpoint>"):
         model.load_state_dict(ckpt["model"], strict=True)
     except (RuntimeError, TypeError, AttributeError) as e:
         raise CheckpointError(path, f"weights do not fit the model ({str(e)[:300]})") from None
+    name = nonfinite(model.state_dict())
+    if name is not None:
+        raise CheckpointError(path, f"weight {name} holds NaN or infinite values (a diverged run?)")
     return model
+
+
+def nonfinite(state_dict):
+    """The name of the first floating-point tensor holding NaN or inf, else None."""
+    for name, value in state_dict.items():
+        if torch.is_tensor(value) and value.is_floating_point() and not torch.isfinite(value).all():
+            return name
+    return None
+
+
+def read_fitting(path, config: ModelConfig, classes, resumable=False):
+    """A checkpoint of this run's model (same options and classes; `resumable`: with its training
+    state), to resume from or to start the joint stage from; CheckpointError naming what differs."""
+    ckpt = read(path)
+    build_model(ckpt, path)  # its own weights are sound
+    theirs, ours = ModelConfig(**ckpt["model_args"]).to_dict(), config.to_dict()
+    differ = [f"{k} {theirs[k]!r}, this run {ours[k]!r}" for k in ours if theirs[k] != ours[k]]
+    if differ:
+        raise CheckpointError(path, "written with other model options (" + "; ".join(differ) +
+                                    "): use the same options, or another --out")
+    if list(ckpt["classes"]) != list(classes):
+        raise CheckpointError(path, f"classes {ckpt['classes']} are not the dataset's {list(classes)}")
+    state = ckpt.get("state")
+    if resumable and not (isinstance(state, dict) and isinstance(ckpt.get("optimizer"), dict)
+                          and all(type(state.get(k)) is int and state[k] >= 0
+                                  for k in ("stage", "epoch", "batch", "step"))
+                          and type(ckpt.get("elapsed")) in (int, float)):
+        raise CheckpointError(path, "holds no training state to resume from")
+    return ckpt
 
 
 def load_model(path=None, expect_classes=None):

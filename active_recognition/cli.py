@@ -20,6 +20,10 @@ import math
 import os
 import sys
 
+from .validation import Check, InputError, SEED_MAX, arg, arg_of, output_dir, output_file
+
+SEED = arg(Check(int, lo=0, hi=SEED_MAX))
+
 
 def cmd_render(args):
     import numpy as np
@@ -29,6 +33,7 @@ def cmd_render(args):
     from .meshes import load_mesh
     from .visualize import depth_grid
 
+    output_file(args.out, "--out", ".png")
     verts, faces = load_mesh(args.mesh)
     cfg = CameraConfig(height=args.size, width=args.size, radius=args.radius,
                        fov=None if args.fov is None else math.radians(args.fov))
@@ -48,29 +53,33 @@ def cmd_render(args):
 def add_render(sub):
     p = sub.add_parser("render", help="render depth images of a mesh file to a PNG")
     p.add_argument("--mesh", required=True, help="mesh file (.off .obj .ply .stl .glb)")
-    p.add_argument("--theta", type=float, default=math.radians(60), help="polar angle, radians")
-    p.add_argument("--phi", type=float, default=math.radians(30), help="azimuth, radians")
-    p.add_argument("--views", type=int, default=0,
+    angle = arg(Check(float))
+    p.add_argument("--theta", type=angle, default=math.radians(60), help="polar angle, radians")
+    p.add_argument("--phi", type=angle, default=math.radians(30), help="azimuth, radians")
+    p.add_argument("--views", type=arg(Check(int, lo=0, hi=100)), default=0,
                    help="render this many evenly spread views instead of one")
-    p.add_argument("--size", type=int, default=64, help="image height and width in pixels")
-    p.add_argument("--radius", type=float, default=1.0, help="viewing-sphere radius R")
-    p.add_argument("--fov", type=float, default=None,
+    p.add_argument("--size", type=arg(Check(int, lo=1, hi=1024)), default=64,
+                   help="image height and width in pixels")
+    p.add_argument("--radius", type=arg(Check(float, lo=0, lo_open=True, hi=100)), default=1.0,
+                   help="viewing-sphere radius R")
+    p.add_argument("--fov", type=arg(Check(float, lo=0, hi=180, lo_open=True, hi_open=True)),
+                   default=None,
                    help="field of view in degrees (default: holds the [-0.5, 0.5]^3 cube)")
     p.add_argument("--out", default="depth.png", help="output PNG")
     p.set_defaults(func=cmd_render)
 
 
 def cmd_dataset(args):
-    import numpy as np
-
     from .datasets import default_cache_dir, open_dataset
-    from .depth_layer import DepthCamera
-    from .visualize import depth_grid
 
-    cache = None if args.no_cache else (args.cache_dir or default_cache_dir())
+    if args.contact_sheet is not None:
+        output_file(args.contact_sheet, "--contact-sheet", ".png")
+    cache = None if args.no_cache else output_dir(
+        default_cache_dir() if args.cache_dir is None else args.cache_dir,
+        "--cache-dir" if args.cache_dir is not None else "cache folder (ACTIVE_RECOGNITION_CACHE)")
     splits = {s: open_dataset(args.name, args.root, s, cache_dir=cache) for s in ("train", "test")}
     classes = splits["train"].classes
-    width = max(len(c) for c in classes)
+    width = max(len(c) for c in classes + ["class"])
     print(f"{args.name}: {len(classes)} classes")
     print(f"{'class':<{width}}  {'train':>6}  {'test':>6}")
     counts = {s: ds.class_counts() for s, ds in splits.items()}
@@ -81,33 +90,54 @@ def cmd_dataset(args):
     print(f"skipped {len(skipped)} file(s)")
     for path, reason in skipped:
         print(f"  {path}: {reason}")
-    if args.contact_sheet and args.name == "twins":  # pairs: a telling view and one that is not
+    for s, ds in splits.items():
+        missing = [c for c, n in zip(classes, counts[s]) if n == 0]
+        if missing and len(ds):
+            print(f"warning: no {s} objects for class(es) {', '.join(missing)}", file=sys.stderr)
+    if not len(splits["train"]) and not len(splits["test"]):  # say what was looked for
+        splits["test"].skipped = skipped
+        splits["test"].require_objects("objects (train or test)")
+    if args.contact_sheet:
+        contact_sheet(args, splits)
+        print(f"wrote {args.contact_sheet}")
+
+
+def contact_sheet(args, splits):
+    """A row per class: objects_per_class test objects (train if the test split is empty), each
+    from views_per_object views; cells stay blank where a class has fewer objects."""
+    import numpy as np
+
+    from .depth_layer import DepthCamera
+    from .visualize import depth_grid
+
+    if args.name == "twins":  # pairs: a telling view and one that is not
         from .datasets.twins import pair_sheet
         images, labels, titles = pair_sheet(args.seed)
         depth_grid(images.reshape(-1, *images.shape[2:]), args.contact_sheet, columns=4,
                    row_labels=labels, titles=titles * len(labels))
-        print(f"wrote {args.contact_sheet}")
-    elif args.contact_sheet:
-        ds = splits["test"] if args.sheet_split == "test" else open_dataset(
-            args.name, args.root, args.sheet_split, cache_dir=cache)
-        rng = np.random.default_rng(args.seed)
-        views = geometry_views(args.views_per_object)
-        images, labels = [], []
-        for label, c in enumerate(classes):
-            idx = np.flatnonzero(ds.labels() == label)
-            for i in rng.choice(idx, min(args.objects_per_class, len(idx)), replace=False):
-                images.extend(DepthCamera(*ds.mesh(i)).render(views))
-            labels.append(c)
-        depth_grid(np.array(images), args.contact_sheet,
-                   columns=args.objects_per_class * len(views), row_labels=labels)
-        print(f"wrote {args.contact_sheet}")
+        return
+    if args.sheet_split != "test":  # a generated benchmark's held-out styles
+        from .datasets import open_dataset
+        ds = open_dataset(args.name, args.root, args.sheet_split,
+                          cache_dir=splits["test"].cache_dir)
+    else:
+        ds = splits["test"] if len(splits["test"]) else splits["train"]
+    rng, views = np.random.default_rng(args.seed), geometry_views(args.views_per_object)
+    images = []
+    for label in range(len(ds.classes)):
+        idx = np.flatnonzero(ds.labels() == label)
+        row = [img for i in rng.choice(idx, min(args.objects_per_class, len(idx)), replace=False)
+               for img in DepthCamera(*ds.mesh(i)).render(views)]
+        images += row + [None] * (args.objects_per_class * len(views) - len(row))
+    depth_grid(images, args.contact_sheet, columns=args.objects_per_class * len(views),
+               row_labels=ds.classes)
 
 
 def geometry_views(n):
     """A few readable views: the first n of front, side, top, below, three-quarter."""
     import numpy as np
     views = [(1.57, -1.57), (1.57, 0.0), (0.35, -1.57), (2.6, -1.2), (1.0, -0.8)]
-    return np.array(views[:max(1, min(n, len(views)))])
+    return np.array(views[:n])
 
 
 def add_dataset(sub):
@@ -115,35 +145,36 @@ def add_dataset(sub):
     p = sub.add_parser("dataset", help="index a dataset: class counts, skipped files, contact sheet")
     p.add_argument("--name", choices=NAMES, default="procedural", help="dataset layout")
     p.add_argument("--root", default=None, help="dataset root folder (not for procedural)")
-    p.add_argument("--cache-dir", default=None,
-                   help="where parsed meshes are cached (default ~/.cache/active_recognition)")
-    p.add_argument("--no-cache", action="store_true", help="do not read or write the cache")
+    cache = p.add_mutually_exclusive_group()
+    cache.add_argument("--cache-dir", default=None,
+                       help="where parsed meshes are cached (default ~/.cache/active_recognition)")
+    cache.add_argument("--no-cache", action="store_true", help="do not read or write the cache")
     p.add_argument("--contact-sheet", default=None, help="write a PNG grid of test-split depth images")
     p.add_argument("--sheet-split", default="test", choices=("test", "cross"),
                    help="the split on the sheet (cross: a generated benchmark's held-out styles)")
-    p.add_argument("--objects-per-class", type=int, default=2, help="objects per class on the sheet")
-    p.add_argument("--views-per-object", type=int, default=3, help="views per object on the sheet")
-    p.add_argument("--seed", type=int, default=0, help="which objects go on the sheet")
+    p.add_argument("--objects-per-class", type=arg(Check(int, lo=1, hi=20)), default=2,
+                   help="objects per class on the sheet")
+    p.add_argument("--views-per-object", type=arg(Check(int, lo=1, hi=5)), default=3,
+                   help="views per object on the sheet (front, side, top, below, three-quarter)")
+    p.add_argument("--seed", type=SEED, default=0, help="which objects go on the sheet")
     p.set_defaults(func=cmd_dataset)
 
 
 def cmd_train(args):
     import dataclasses
-
-    import yaml
+    from pathlib import Path
 
     from .train import TrainConfig, train
+    from .validation import check_mapping, load_yaml
 
     values = {}
-    if args.config:
-        with open(args.config) as f:
-            values = yaml.safe_load(f) or {}
-        if not isinstance(values, dict):
-            raise ValueError(f"{args.config}: a training preset must be a mapping of options")
+    if args.config is not None:
+        values = load_yaml(args.config, "--config")
+        try:
+            values = check_mapping(TrainConfig, values)
+        except InputError as e:
+            raise InputError(f"--config {args.config}: {e}") from None
     fields = {f.name for f in dataclasses.fields(TrainConfig)}
-    unknown = set(values) - fields
-    if unknown:
-        raise ValueError(f"{args.config}: unknown option(s) {sorted(unknown)}")
     for name in fields:  # flags given on the command line win over the preset
         flag = getattr(args, name, None)
         if flag is not None and flag is not False:
@@ -153,8 +184,12 @@ def cmd_train(args):
         if getattr(args, key) is not None:
             model[key] = getattr(args, key)
     values["model"] = model
-    train(TrainConfig(**values))
-    print(f"checkpoints in {values.get('out', TrainConfig.out)}: last.pt (resumable), final.pt")
+    cfg = TrainConfig(**values)
+    train(cfg)
+    out = Path(cfg.out)
+    written = [f"{name}{note}" for name, note in (("last.pt", " (resumable)"), ("final.pt", ""))
+               if (out / name).exists()]
+    print(f"checkpoints in {out}: {', '.join(written)}")
     import torch.distributed as dist
     if dist.is_initialized():  # under torchrun: leave the group cleanly, then exit at once
         dist.barrier()
@@ -169,64 +204,78 @@ def cmd_train(args):
 
 def add_train(sub):
     from .datasets import NAMES
+    from .model import ModelConfig
+    from .train import TrainConfig
+
+    def own(name):
+        return arg_of(TrainConfig, name)
     p = sub.add_parser("train", help="pre-train the classifier and train the model end to end")
     p.add_argument("--config", help="YAML preset of these options (flags override it)")
     p.add_argument("--dataset", choices=NAMES, help="dataset layout (default procedural)")
-    p.add_argument("--root", help="dataset root folder")
-    p.add_argument("--out", help="run folder for checkpoints and metrics.csv")
+    p.add_argument("--root", type=own("root"), help="dataset root folder")
+    p.add_argument("--out", type=own("out"), help="run folder for checkpoints and metrics.csv")
     p.add_argument("--stage", choices=("pretrain", "joint", "all"), help="which stage(s) to run")
     p.add_argument("--policy", choices=("learned", "reinforce", "hybrid", "imitation"),
                    help="how the view head learns: end to end through the depth layer (learned), "
                         "REINFORCE, both at once (hybrid), or FC_view imitating the oracle "
                         "(imitation, needs --candidates)")
-    p.add_argument("--revisit-penalty", dest="revisit_penalty", type=float,
+    p.add_argument("--revisit-penalty", dest="revisit_penalty", type=own("revisit_penalty"),
                    help="learned: weight of the penalty on views within 30 degrees of earlier ones (0)")
-    p.add_argument("--imitation-mix", dest="imitation_mix", type=float,
+    p.add_argument("--imitation-mix", dest="imitation_mix", type=own("imitation_mix"),
                    help="imitation: chance that a training step follows the oracle (0.5)")
-    p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=int, help="stage 1 epochs")
-    p.add_argument("--joint-epochs", dest="joint_epochs", type=int, help="stage 2 epochs")
-    p.add_argument("--batch-size", dest="batch_size", type=int, help="shapes per batch")
-    p.add_argument("--steps", type=int, help="views per training episode (default 10)")
-    p.add_argument("--views-per-shape", dest="views_per_shape", type=int,
+    p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=own("pretrain_epochs"),
+                   help="stage 1 epochs")
+    p.add_argument("--joint-epochs", dest="joint_epochs", type=own("joint_epochs"),
+                   help="stage 2 epochs")
+    p.add_argument("--batch-size", dest="batch_size", type=own("batch_size"),
+                   help="shapes per batch")
+    p.add_argument("--steps", type=own("steps"), help="views per training episode (default 10)")
+    p.add_argument("--views-per-shape", dest="views_per_shape", type=own("views_per_shape"),
                    help="pre-training images per shape per batch (default 4)")
-    p.add_argument("--lr-pretrain", dest="lr_pretrain", type=float, help="stage 1 learning rate")
-    p.add_argument("--lr-joint", dest="lr_joint", type=float, help="stage 2 learning rate")
-    p.add_argument("--lr-view-scale", dest="lr_view_scale", type=float,
+    p.add_argument("--lr-pretrain", dest="lr_pretrain", type=own("lr_pretrain"),
+                   help="stage 1 learning rate")
+    p.add_argument("--lr-joint", dest="lr_joint", type=own("lr_joint"),
+                   help="stage 2 learning rate")
+    p.add_argument("--lr-view-scale", dest="lr_view_scale", type=own("lr_view_scale"),
                    help="FC_loc's learning rate relative to the rest in the joint stage (1)")
     p.add_argument("--step-weighting", dest="step_weighting", choices=("uniform", "early"),
                    help="joint loss over the steps: uniform (the paper) or early (1/t)")
-    p.add_argument("--initial-step", dest="initial_step", type=float, nargs=2,
+    p.add_argument("--initial-step", dest="initial_step", type=arg(Check(float)), nargs=2,
                    metavar=("DTHETA", "DPHI"),
                    help="radians: the view head's increment when the joint stage starts (0 0)")
     p.add_argument("--view-gradient", dest="view_gradient", choices=("paper", "surface"),
                    help="depth-layer backward rule")
     p.add_argument("--gradient-reduction", dest="gradient_reduction", choices=("mean", "sum"),
                    help="how per-pixel view gradients are reduced")
-    p.add_argument("--eval-shapes", dest="eval_shapes", type=int, help="test shapes scored per epoch")
-    p.add_argument("--checkpoint-every", dest="checkpoint_every", type=int,
+    p.add_argument("--eval-shapes", dest="eval_shapes", type=own("eval_shapes"),
+                   help="test shapes scored per epoch")
+    p.add_argument("--checkpoint-every", dest="checkpoint_every", type=own("checkpoint_every"),
                    help="write last.pt every N batches")
-    p.add_argument("--max-shapes", dest="max_shapes", type=int, help="train on a seeded subset")
+    p.add_argument("--max-shapes", dest="max_shapes", type=own("max_shapes"),
+                   help="train on a seeded subset")
     p.add_argument("--yaw", action="store_true", default=None,
                    help="augment: turn every training object by a random yaw about z (for an "
                         "object frame of unknown heading)")
-    p.add_argument("--frame-error", dest="frame_error", type=float,
+    p.add_argument("--frame-error", dest="frame_error", type=own("frame_error"),
                    help="augment: object frame off by up to this fraction of the object's size, in "
-                        "centre and in size (a detector's error; 0.15 in the shipped presets)")
-    p.add_argument("--floor-cut", dest="floor_cut", type=float,
+                        "centre and in size (a detector's error; 0.25 in the shipped preset)")
+    p.add_argument("--floor-cut", dest="floor_cut", type=own("floor_cut"),
                    help="augment: cut away up to this fraction of the object's bottom (0)")
-    p.add_argument("--dropout", type=float,
+    p.add_argument("--dropout", type=own("dropout"),
                    help="augment: up to this fraction of each image's pixels, and as many of its "
                         "depth-edge pixels, missing (0)")
-    p.add_argument("--seed", type=int, help="seed of every random choice")
-    p.add_argument("--device", help="cpu or cuda")
+    p.add_argument("--seed", type=SEED, help="seed of every random choice")
+    p.add_argument("--device", type=own("device"), help="cpu, cuda or cuda:N")
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
-    p.add_argument("--hidden-size", dest="hidden_size", type=int, help="RNN hidden size (256)")
+    p.add_argument("--hidden-size", dest="hidden_size", type=arg_of(ModelConfig, "hidden_size"),
+                   help="RNN hidden size (256)")
     p.add_argument("--encoder", choices=("compact", "alexnet"), help="Conv2D encoder")
-    p.add_argument("--max-step", dest="max_step", type=float, help="view increment bound, radians")
-    p.add_argument("--radius", type=float, help="viewing-sphere radius R")
+    p.add_argument("--max-step", dest="max_step", type=arg_of(ModelConfig, "max_step"),
+                   help="view increment bound, radians")
+    p.add_argument("--radius", type=arg_of(ModelConfig, "radius"), help="viewing-sphere radius R")
     p.add_argument("--view-input", dest="view_input", action="store_true", default=None,
                    help="feed the current view to the RNN (MV-RNN style)")
-    p.add_argument("--candidates", type=int,
+    p.add_argument("--candidates", type=arg_of(ModelConfig, "candidates"),
                    help="size of FC_view, the head scoring candidate views (imitation; 0 = none)")
     p.set_defaults(func=cmd_train)
 
@@ -234,7 +283,7 @@ def add_train(sub):
 def cmd_demo(args):
     import importlib.util
     if importlib.util.find_spec("rclpy") is None:
-        raise ValueError("the demo needs ROS 2's rclpy: install with pip install '.[ros]' "
+        raise InputError("the demo needs ROS 2's rclpy: install with pip install '.[ros]' "
                          "or source a ROS 2 install")
     from .nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
@@ -245,10 +294,11 @@ def cmd_demo(args):
 def add_demo(sub):
     p = sub.add_parser("demo", help="closed loop over ROS topics: recognizer + simulated camera")
     from .recognizer import NODE_PLANNERS
-    p.add_argument("--objects", type=int, default=10, help="test objects to recognise")
+    p.add_argument("--objects", type=arg(Check(int, lo=1, hi=100_000)), default=10,
+                   help="test objects to recognise")
     p.add_argument("--dataset", choices=("procedural", "twins"), default="procedural",
                    help="embedded dataset whose test objects the simulated camera shows")
-    p.add_argument("--seed", type=int, default=0, help="which objects and initial views")
+    p.add_argument("--seed", type=SEED, default=0, help="which objects and initial views")
     p.add_argument("--checkpoint", default=None,
                    help="model file (default: the dataset's shipped model)")
     p.add_argument("--planner", choices=NODE_PLANNERS, default="auto",
@@ -265,31 +315,35 @@ def add_demo(sub):
 
 def cmd_evaluate(args):
     import json
+    from pathlib import Path
 
     from .evaluate import EvalConfig, evaluate, summary, write_json
+    from .report import load_run_metrics, training_time
 
     own = {}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
         if not sep or not name or not path:
-            raise ValueError(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
+            raise InputError(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
+        if name in own:
+            raise InputError(f"--planner-checkpoint: {name} is given twice")
         own[name] = path
+    metrics = [m for m in (args.learned_metrics, args.reinforce_metrics) if m is not None]
+    if len(metrics) == 1:
+        raise InputError("--learned-metrics and --reinforce-metrics go together (the training-time "
+                         "comparison needs both runs)")
+    runs = [load_run_metrics(m) for m in metrics]  # read now, not after the evaluation
     cfg = EvalConfig(checkpoint=args.checkpoint, reinforce_checkpoint=args.reinforce_checkpoint,
                      planner_checkpoints=own,
-                     planners=tuple(args.planners.split(",")), dataset=args.dataset,
-                     root=args.root, split=args.split, objects=args.objects, starts=args.starts,
-                     steps=args.steps, entropy_threshold=args.entropy_threshold, seed=args.seed,
-                     out=args.out, shared=not args.no_shared)
+                     planners=tuple(p.strip() for p in args.planners.split(",")),
+                     dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
+                     starts=args.starts, steps=args.steps,
+                     entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
+                     shared=not args.no_shared)
     results = evaluate(cfg)
     s = summary(results)
-    if args.learned_metrics and args.reinforce_metrics:
-        from pathlib import Path
-
-        from .report import training_time
-        from .train import read_metrics
-        s["training_time"] = training_time(read_metrics(args.learned_metrics),
-                                           read_metrics(args.reinforce_metrics),
-                                           Path(args.out) / "training_time.png")
+    if runs:
+        s["training_time"] = training_time(*runs, Path(args.out) / "training_time.png")
         write_json(Path(args.out) / "summary.json", s)
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
@@ -297,7 +351,11 @@ def cmd_evaluate(args):
 
 def add_evaluate(sub):
     from .datasets import NAMES
+    from .evaluate import EvalConfig
     from .policies import PLANNERS
+
+    def own(name):
+        return arg_of(EvalConfig, name)
     p = sub.add_parser("evaluate", help="compare view planners on a dataset split")
     p.add_argument("--checkpoint", default=None, help="learned model (default: the shipped one)")
     p.add_argument("--reinforce-checkpoint", default=None,
@@ -311,11 +369,14 @@ def add_evaluate(sub):
     p.add_argument("--root", default=None, help="dataset root folder")
     p.add_argument("--split", default="test", choices=("train", "test", "cross"),
                    help="which split (cross: a generated benchmark's held-out styles)")
-    p.add_argument("--objects", type=int, default=0, help="seeded sample of objects (0: all)")
-    p.add_argument("--starts", type=int, default=1, help="initial views per object (of the 50)")
-    p.add_argument("--steps", type=int, default=10, help="views per episode")
-    p.add_argument("--entropy-threshold", type=float, default=0.1, help="early-stop entropy (nats)")
-    p.add_argument("--seed", type=int, default=0, help="objects, initial views, random planner")
+    p.add_argument("--objects", type=own("objects"), default=0,
+                   help="seeded sample of objects (0: all)")
+    p.add_argument("--starts", type=own("starts"), default=1,
+                   help="initial views per object (of the 50)")
+    p.add_argument("--steps", type=own("steps"), default=10, help="views per episode")
+    p.add_argument("--entropy-threshold", type=own("entropy_threshold"), default=0.1,
+                   help="early-stop entropy (nats)")
+    p.add_argument("--seed", type=SEED, default=0, help="objects, initial views, random planner")
     p.add_argument("--out", default="runs/eval", help="report folder")
     p.add_argument("--no-shared", action="store_true", help="skip the shared multi-view classifier")
     p.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
@@ -323,8 +384,15 @@ def add_evaluate(sub):
     p.set_defaults(func=cmd_evaluate)
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse, but a bad option is one line (the error and where help is), not the usage."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser():
-    parser = argparse.ArgumentParser(prog="active-recognition", description=__doc__)
+    parser = Parser(prog="active-recognition", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     for add in ADDERS:
         add(sub)
@@ -338,9 +406,12 @@ def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
         return args.func(args) or 0
-    except (ValueError, FileNotFoundError) as e:  # MeshError, bad options, missing files
+    except (InputError, OSError) as e:  # bad options, files, checkpoints, meshes; paths
         print(f"active-recognition {args.command}: error: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print(f"active-recognition {args.command}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

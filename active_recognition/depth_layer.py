@@ -33,6 +33,7 @@ from embreex import rtcore, rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
 from . import geometry
+from .validation import InputError
 
 MISS = 255.0
 GRADIENT_RULES = ("paper", "surface")
@@ -53,13 +54,13 @@ class CameraConfig:
 
     def __post_init__(self):
         if not (1 <= self.height <= 4096 and 1 <= self.width <= 4096):
-            raise ValueError(f"camera size {self.height}x{self.width} must be 1..4096 pixels a side")
+            raise InputError(f"camera size {self.height}x{self.width} must be 1..4096 pixels a side")
         if not (math.isfinite(self.radius) and self.radius > 0):
-            raise ValueError(f"camera radius must be a positive number, got {self.radius}")
+            raise InputError(f"camera radius must be a positive number, got {self.radius}")
         if self.fov is not None and not (0 < self.fov < math.pi):
-            raise ValueError(f"camera fov must lie in (0, pi) radians, got {self.fov}")
+            raise InputError(f"camera fov must lie in (0, pi) radians, got {self.fov}")
         if not (self.focal > 0):
-            raise ValueError(f"camera focal length must be positive, got {self.focal}")
+            raise InputError(f"camera focal length must be positive, got {self.focal}")
 
     @property
     def fov_rad(self) -> float:
@@ -109,10 +110,10 @@ class DepthCamera:
         vertices = np.asarray(vertices, dtype=np.float32)
         faces = np.asarray(faces, dtype=np.int32)
         if vertices.ndim != 2 or vertices.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
-            raise ValueError(f"mesh needs (V, 3) vertices and (F, 3) triangles, got "
+            raise InputError(f"mesh needs (V, 3) vertices and (F, 3) triangles, got "
                              f"{vertices.shape} and {faces.shape}")
         if len(faces) == 0 or faces.min() < 0 or faces.max() >= len(vertices):
-            raise ValueError("mesh has no faces or face indices outside its vertex list")
+            raise InputError("mesh has no faces or face indices outside its vertex list")
         self.config = config
         self.crop = None  # (lo (3,), hi (3,)): only hits inside this box count (augmentation)
         self.scene = rtcore_scene.EmbreeScene(_DEVICE)
@@ -121,7 +122,7 @@ class DepthCamera:
             x, y = geometry.pixel_grid(config.height, config.width, config.fov_rad, config.focal)
         else:  # any K (a real camera's, for the simulated one); the image size is the config's
             if (intrinsics.height, intrinsics.width) != (config.height, config.width):
-                raise ValueError(f"intrinsics are for {intrinsics.width}x{intrinsics.height}, the "
+                raise InputError(f"intrinsics are for {intrinsics.width}x{intrinsics.height}, the "
                                  f"camera renders {config.width}x{config.height}")
             optical = intrinsics.rays() * config.focal
             x, y = -optical[..., 1], optical[..., 0]
@@ -197,7 +198,7 @@ class DepthCamera:
         t = n.(p - o)/(n.w) and dt = -(n.do + t n.dw)/(n.w).
         """
         if rule not in GRADIENT_RULES:
-            raise ValueError(f"gradient rule must be one of {GRADIENT_RULES}, got {rule!r}")
+            raise InputError(f"gradient rule must be one of {GRADIENT_RULES}, got {rule!r}")
         views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
         d_rot = geometry.view_rotation_derivatives(views[:, 0], views[:, 1])  # (B, 2, 3, 3)
         d_orig = d_rot[..., 2] * self.config.radius                           # (B, 2, 3)
@@ -229,7 +230,7 @@ def trace_all(cameras, views):
     """Trace views[i] (2,) with cameras[i], two at a time: a list of one-view Hits."""
     views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
     if len(cameras) != len(views):
-        raise ValueError(f"{len(cameras)} cameras for {len(views)} views")
+        raise InputError(f"{len(cameras)} cameras for {len(views)} views")
     if len(cameras) == 1:
         return [cameras[0].trace(views[0])]
     return list(_POOL.map(lambda cv: cv[0].trace(cv[1]), zip(cameras, views)))
@@ -265,9 +266,9 @@ def render_views(views: torch.Tensor, cameras, rule="paper", reduction="mean") -
     reducing the per-pixel terms by "mean" (the paper) or "sum".
     """
     if rule not in GRADIENT_RULES:
-        raise ValueError(f"gradient rule must be one of {GRADIENT_RULES}, got {rule!r}")
+        raise InputError(f"gradient rule must be one of {GRADIENT_RULES}, got {rule!r}")
     if reduction not in ("mean", "sum"):
-        raise ValueError(f"gradient reduction must be 'mean' or 'sum', got {reduction!r}")
+        raise InputError(f"gradient reduction must be 'mean' or 'sum', got {reduction!r}")
     if views.ndim != 2 or views.shape[1] != 2:
-        raise ValueError(f"views must be (B, 2) (theta, phi), got {tuple(views.shape)}")
+        raise InputError(f"views must be (B, 2) (theta, phi), got {tuple(views.shape)}")
     return _RenderViews.apply(views, list(cameras), rule, reduction)

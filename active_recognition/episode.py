@@ -26,18 +26,18 @@ from dataclasses import dataclass, field
 import torch
 
 from .geometry import wrap_view
+from .validation import option, validate
+
+MAX_VIEWS = 1000  # an episode longer than this is a typo, not a plan
 
 
 @dataclass
 class EpisodeConfig:
-    max_views: int = 10
-    entropy_threshold: float = 0.1
+    max_views: int = option(10, lo=1, hi=MAX_VIEWS)
+    entropy_threshold: float = option(0.1, lo=0)  # nats; 0 = never stop early
 
     def __post_init__(self):
-        if self.max_views < 1:
-            raise ValueError(f"max_views must be at least 1, got {self.max_views}")
-        if not self.entropy_threshold >= 0:
-            raise ValueError(f"entropy_threshold must be >= 0, got {self.entropy_threshold}")
+        validate(self)
 
 
 @dataclass

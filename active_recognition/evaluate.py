@@ -31,31 +31,43 @@ import numpy as np
 import torch
 
 from . import checkpoint, geometry
-from .datasets import default_cache_dir, open_dataset
+from .datasets import NAMES, default_cache_dir, open_dataset
+from .datasets.base import SPLITS
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
 from .train import Shapes
+from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
+                         validate)
 
 
 @dataclass
 class EvalConfig:
-    checkpoint: str | None = None            # the model (default: the dataset's shipped one)
-    reinforce_checkpoint: str | None = None  # the REINFORCE-trained model, for "reinforce"
-    planner_checkpoints: dict = field(default_factory=dict)  # planner -> its own model file
-    planners: tuple = ("learned", "random", "straight", "oracle")
-    dataset: str = "procedural"
-    root: str | None = None
-    split: str = "test"
-    objects: int = 0                         # 0: the whole split; else a seeded sample
-    starts: int = 1                          # initial views per object, a seeded sample of the 50
-    steps: int = 10
-    entropy_threshold: float = 0.1
-    seed: int = 0
-    out: str = "runs/eval"
-    shared: bool = True                      # also score every planner with the shared classifier
-    oracle_candidates: int = 50
-    trajectory_figures: int = 3
+    # the model (default: the dataset's shipped one)
+    checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None))
+    # the REINFORCE-trained model, for "reinforce"
+    reinforce_checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None))
+    planner_checkpoints: dict = option({})  # planner -> its own model file
+    planners: tuple = option(("learned", "random", "straight", "oracle"), length=(1, None),
+                             items=Check(str, choices=PLANNERS))
+    dataset: str = option("procedural", choices=NAMES)
+    root: str | None = option(None, kind=str, optional=True, length=(1, None))
+    split: str = option("test", choices=SPLITS + ("cross",))  # cross: held-out styles
+    objects: int = option(0, lo=0)          # 0: the whole split; else a seeded sample
+    starts: int = option(1, lo=1, hi=50)    # initial views per object, a seeded sample of the 50
+    steps: int = option(10, lo=1, hi=100)
+    entropy_threshold: float = option(0.1, lo=0)
+    seed: int = option(0, lo=0, hi=SEED_MAX)
+    out: str = option("runs/eval", length=(1, None))
+    shared: bool = option(True)             # also score every planner with the shared classifier
+    oracle_candidates: int = option(50, lo=1, hi=10_000)
+    trajectory_figures: int = option(3, lo=0, hi=100)
+
+    def __post_init__(self):
+        validate(self)
+        twice = sorted({p for p in self.planners if self.planners.count(p) > 1})
+        if twice:
+            raise InputError(f"planners: {', '.join(twice)} named more than once")
 
 
 @dataclass
@@ -131,30 +143,32 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
                                       CameraConfig(size, size, radius=radius))
     shapes = splits[size, radius]
     if list(shapes.ds.classes) != classes:
-        raise ValueError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
+        raise InputError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
                          f"not the dataset's {shapes.ds.classes}")
     return model, classes, shapes, ckpt
 
 
 def evaluate(cfg: EvalConfig, progress=True):
     """Run every planner; write the report under cfg.out; return {planner: Rollout}."""
-    for name in cfg.planners:
-        if name not in PLANNERS:
-            raise ValueError(f"planner must be among {PLANNERS}, got {name!r}")
     paths = {**({"reinforce": cfg.reinforce_checkpoint} if cfg.reinforce_checkpoint else {}),
              **cfg.planner_checkpoints}
     if "reinforce" in cfg.planners and "reinforce" not in paths:
-        raise ValueError("the reinforce planner needs --reinforce-checkpoint (a model trained "
+        raise InputError("the reinforce planner needs --reinforce-checkpoint (a model trained "
                          "with 'train --policy reinforce')")
-    for name, path in paths.items():  # refuse a missing file now, not after an hour
-        if name not in PLANNERS or not Path(path).is_file():
-            raise ValueError(f"planner checkpoint {name}={path}: " + (
-                "no such planner" if name not in PLANNERS else "no such file"))
+    for name, path in paths.items():  # refuse a bad file now, not after an hour
+        if name not in PLANNERS:
+            raise InputError(f"planner checkpoint {name}={path}: no such planner (planners: "
+                             f"{', '.join(PLANNERS)})")
+        input_file(path, "checkpoint")
+    out = output_dir(cfg.out, "out")
     model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
+    if cfg.objects > len(test.ds.require_objects()):
+        raise InputError(f"objects = {cfg.objects}, but the {cfg.dataset} {cfg.split} split holds "
+                         f"{len(test)} (0 = all of them)")
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
-    out = Path(cfg.out)
-    out.mkdir(parents=True, exist_ok=True)
+    if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
+        make_planner("imitation", model=models.get("imitation") or model)
     net = fixed = None
     if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
@@ -193,12 +207,15 @@ def summary(results):
          "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
          "early_stop": {n: dict(zip(("accuracy", "mean_views"), (round(v, 4) for v in ro.early_stop())))
                         for n, ro in results.items()}}
-    s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
+    three = next(iter(results.values())).probs.shape[1] >= 3  # episodes of 3 views or more
+    if three:
+        s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
     if "fixed" in results and results["fixed"].path is not None:
         s["fixed_path"] = np.round(results["fixed"].path, 6).tolist()
     if all(ro.shared_probs is not None for ro in results.values()):
         s["acc_shared"] = {n: at(ro, True) for n, ro in results.items()}
-        s["stderr_3_shared"] = {n: standard_error(ro, True) for n, ro in results.items()}
+        if three:
+            s["stderr_3_shared"] = {n: standard_error(ro, True) for n, ro in results.items()}
     return s
 
 

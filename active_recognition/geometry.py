@@ -29,6 +29,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from .validation import InputError
+
 CUBE_RADIUS = math.sqrt(3.0) / 2.0  # bounding-sphere radius of [-0.5, 0.5]^3
 
 
@@ -146,7 +148,7 @@ def view_from_position(position):
     x, y, z = np.asarray(position, dtype=np.float64)
     r = math.sqrt(x * x + y * y + z * z)
     if r == 0:
-        raise ValueError("a camera at the object's centre has no view direction")
+        raise InputError("a camera at the object's centre has no view direction")
     return r, math.acos(max(-1.0, min(1.0, z / r))), math.atan2(y, x)
 
 
@@ -183,18 +185,18 @@ class Intrinsics:
 
     def __post_init__(self):
         if not (1 <= self.width <= 4096 and 1 <= self.height <= 4096):
-            raise ValueError(f"camera size {self.width}x{self.height} must be 1..4096 pixels a side")
+            raise InputError(f"camera size {self.width}x{self.height} must be 1..4096 pixels a side")
         for name in ("fx", "fy", "cx", "cy"):
             value, focal = getattr(self, name), name in ("fx", "fy")
             if not math.isfinite(value) or (focal and value <= 0):
                 kind = "a positive" if focal else "a finite"
-                raise ValueError(f"camera {name} must be {kind} number of pixels, got {value}")
+                raise InputError(f"camera {name} must be {kind} number of pixels, got {value}")
 
     @classmethod
     def from_fov(cls, width, height, fov):
         """Square pixels, principal point at the centre, horizontal field of view `fov` (radians)."""
         if not 0 < fov < math.pi:
-            raise ValueError(f"field of view must lie in (0, 180) degrees, got {math.degrees(fov)}")
+            raise InputError(f"field of view must lie in (0, 180) degrees, got {math.degrees(fov)}")
         f = width / (2 * math.tan(fov / 2))
         return cls(int(width), int(height), f, f, (width - 1) / 2, (height - 1) / 2)
 
@@ -203,7 +205,7 @@ class Intrinsics:
         x = min(self.cx + 0.5, self.width - 0.5 - self.cx) / self.fx
         y = min(self.cy + 0.5, self.height - 0.5 - self.cy) / self.fy
         if min(x, y) <= 0:
-            raise ValueError("the principal point lies outside the image")
+            raise InputError("the principal point lies outside the image")
         return math.atan(min(x, y))
 
     def rays(self):

@@ -22,10 +22,13 @@ from pathlib import Path
 import numpy as np
 import trimesh
 
+from .validation import InputError
+
 SUFFIXES = (".off", ".obj", ".ply", ".stl", ".glb")
+TEXT = (".off", ".obj")  # text-only formats
 
 
-class MeshError(ValueError):
+class MeshError(InputError):
     """A mesh file that cannot be used; the message names the file and the reason."""
 
     def __init__(self, path, reason):
@@ -55,9 +58,13 @@ def read_off(path):
         vals = np.array(tokens[3:], dtype=object)
         if nv <= 0 or nf <= 0:
             raise ValueError(f"OFF header declares {nv} vertices and {nf} faces")
+        if len(vals) < 3 * nv:
+            raise ValueError(f"header declares {nv} vertices but the file holds {len(vals) // 3}")
         verts = np.array(vals[:3 * nv], dtype=np.float64).reshape(nv, 3)
         pos, faces = 3 * nv, []
-        for _ in range(nf):
+        for n in range(nf):
+            if pos >= len(vals):
+                raise ValueError(f"header declares {nf} faces but the file holds {n}")
             k = int(vals[pos])
             idx = [int(i) for i in vals[pos + 1:pos + 1 + k]]
             if k < 3 or len(idx) != k:
@@ -79,20 +86,61 @@ def load_mesh(path):
     if suffix not in SUFFIXES:
         raise MeshError(path, f"unsupported format {suffix!r} (use one of {', '.join(SUFFIXES)})")
     if not path.is_file():
-        raise MeshError(path, "no such file")
+        raise MeshError(path, "is a directory, not a file" if path.is_dir() else "no such file")
     if os.path.getsize(path) == 0:
         raise MeshError(path, "file is empty")
     try:
+        sniff(path, suffix)
         if suffix == ".off":
             verts, faces = read_off(path)
         else:
             mesh = trimesh.load(path, force="mesh", process=False)
             verts, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+        if suffix == ".ply":
+            check_ply_counts(path, len(verts), len(faces))
     except MeshError:
         raise
+    except ImportError:  # trimesh guessing the encoding of undecodable text
+        raise MeshError(path, f"unreadable: not a valid {suffix[1:].upper()} file") from None
     except Exception as e:  # trimesh raises many types for bad files
         raise MeshError(path, f"unreadable: {e}") from None
     return check_mesh(path, verts, faces)
+
+
+def sniff(path, suffix):
+    """MeshError when the file cannot be of its format: binary data in a text format, or a
+    missing PLY, GLB or STL signature."""
+    with open(path, "rb") as f:
+        head = f.read(1 << 16)
+    fmt = suffix[1:].upper()
+    if suffix in TEXT:
+        try:
+            text = Path(path).read_bytes().decode("utf-8")
+        except UnicodeDecodeError:
+            raise MeshError(path, f"not a text {fmt} file (binary data, or not UTF-8)") from None
+        if "\0" in text:
+            raise MeshError(path, f"not a text {fmt} file (binary data)")
+    elif suffix == ".ply" and not head.startswith(b"ply"):
+        raise MeshError(path, "not a PLY file (no 'ply' signature)")
+    elif suffix == ".glb" and not head.startswith(b"glTF"):
+        raise MeshError(path, "not a GLB file (no 'glTF' signature)")
+    elif suffix == ".stl":
+        size = os.path.getsize(path)
+        count = int.from_bytes(head[80:84], "little") if size >= 84 else -1
+        if size != 84 + 50 * count and not head.lstrip().lower().startswith(b"solid"):
+            raise MeshError(path, "not an STL file (neither ASCII 'solid' nor binary STL of the "
+                                  "length its triangle count implies)")
+
+
+def check_ply_counts(path, vertices, faces):
+    """MeshError when the PLY header declares more vertices or faces than were read."""
+    with open(path, "rb") as f:
+        header = f.read(1 << 16).split(b"end_header", 1)[0].decode("latin-1")
+    declared = dict(re.findall(r"^element\s+(vertex|face)\s+(\d+)", header, re.M))
+    nv, nf = int(declared.get("vertex", 0)), int(declared.get("face", 0))
+    if vertices < nv or faces < nf:  # polygons become several triangles: faces may be more
+        raise MeshError(path, f"header declares {nv} vertices and {nf} faces, the file holds "
+                              f"{vertices} and {faces}: truncated")
 
 
 def check_mesh(path, verts, faces):

@@ -22,12 +22,14 @@ taken; `candidates` > 0 adds FC_view, a head that scores that many evenly spread
 """
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 import torch
 from torch import nn
 
 from .geometry import unit_position
+from .validation import option, validate
 
 ENCODERS = ("compact", "alexnet")
 INPUT_SIZE = {"compact": 64, "alexnet": 227}
@@ -35,21 +37,17 @@ INPUT_SIZE = {"compact": 64, "alexnet": 227}
 
 @dataclass
 class ModelConfig:
-    num_classes: int = 10
-    encoder: str = "compact"    # compact (64x64, CPU-friendly) or alexnet (the paper's, 227x227)
-    feature_size: int = 256     # e_t
-    hidden_size: int = 256      # h_t, the paper's best
-    max_step: float = 0.8       # bound on |dtheta|, |dphi| per step, radians
-    radius: float = 1.0         # viewing-sphere radius the model was trained at
-    view_input: bool = False    # feed the current view to the RNN (MV-RNN style)
-    candidates: int = 0         # > 0: FC_view scores this many candidate views (imitation head)
+    num_classes: int = option(10, lo=2, hi=100_000)
+    encoder: str = option("compact", choices=ENCODERS)  # compact (64x64, CPU) or alexnet (227x227)
+    feature_size: int = option(256, lo=1, hi=8192)      # e_t
+    hidden_size: int = option(256, lo=1, hi=8192)       # h_t, the paper's best
+    max_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True)  # |dtheta|, |dphi| bound, rad
+    radius: float = option(1.0, lo=0, hi=100, lo_open=True)  # viewing-sphere radius trained at
+    view_input: bool = option(False)    # feed the current view to the RNN (MV-RNN style)
+    candidates: int = option(0, lo=0, hi=10_000)  # > 0: FC_view scores this many candidate views
 
     def __post_init__(self):
-        assert self.encoder in ENCODERS, f"encoder must be one of {ENCODERS}, got {self.encoder!r}"
-        assert self.num_classes >= 2, f"need at least 2 classes, got {self.num_classes}"
-        assert self.hidden_size >= 1 and self.feature_size >= 1, "sizes must be positive"
-        assert 0 < self.max_step <= 3.15, f"max_step must be in (0, pi], got {self.max_step}"
-        assert self.candidates >= 0, f"candidates must be >= 0, got {self.candidates}"
+        validate(self)
 
     @property
     def image_size(self):

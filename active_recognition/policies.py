@@ -34,6 +34,7 @@ import numpy as np
 import torch
 
 from . import geometry
+from .validation import InputError
 
 PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
 
@@ -91,7 +92,7 @@ class ImitationPlanner:
 
     def __init__(self, model):
         if not getattr(model.config, "candidates", 0):
-            raise ValueError("the imitation planner needs a model with a view-scoring head "
+            raise InputError("the imitation planner needs a model with a view-scoring head "
                              "(trained with 'train --policy imitation')")
         self.candidates = geometry.fibonacci_views(model.config.candidates)
 
@@ -143,7 +144,7 @@ class OraclePlanner:
 def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_path=None):
     """A planner by name; None for the model's own view head (learned, reinforce)."""
     if name not in PLANNERS:
-        raise ValueError(f"planner must be one of {PLANNERS}, got {name!r}")
+        raise InputError(f"planner must be one of {PLANNERS}, got {name!r}")
     if name in ("learned", "reinforce"):
         return None
     if name == "random":
@@ -152,13 +153,13 @@ def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_pa
         return StraightPlanner()
     if name == "imitation":
         if model is None:
-            raise ValueError("the imitation planner needs its model")
+            raise InputError("the imitation planner needs its model")
         return ImitationPlanner(model)
     if name == "fixed":
         if fixed_path is None:
-            raise ValueError("the fixed planner needs its path (view_sets.fixed_path, or a "
+            raise InputError("the fixed planner needs its path (view_sets.fixed_path, or a "
                              "checkpoint that carries 'fixed_path')")
         return FixedPlanner(fixed_path, seed)
     if cameras is None:
-        raise ValueError("the oracle planner needs the objects' cameras (it is privileged)")
+        raise InputError("the oracle planner needs the objects' cameras (it is privileged)")
     return OraclePlanner(cameras, candidates)

@@ -24,7 +24,6 @@ one, else its own FC_loc. The ROS node is a thin shell around this class.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,9 +31,10 @@ import torch
 
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
-from .episode import Episode, EpisodeConfig
+from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .policies import PLANNERS, make_planner
 from .reprojection import auto_standoff, reproject
+from .validation import InputError, option, validate
 
 NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
 
@@ -42,7 +42,7 @@ NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the o
 def choose_planner(name, model, ckpt):
     """The planner name `name` stands for with this checkpoint ("auto": its best)."""
     if name not in NODE_PLANNERS:
-        raise ValueError(f"planner must be one of {NODE_PLANNERS} (the oracle needs the object's "
+        raise InputError(f"planner must be one of {NODE_PLANNERS} (the oracle needs the object's "
                          f"mesh, so a robot cannot use it), got {name!r}")
     if name != "auto":
         return name
@@ -51,21 +51,15 @@ def choose_planner(name, model, ckpt):
 
 @dataclass
 class SensingConfig:
-    object_size: float = 1.0          # metres: the longest edge of the object's bounding box
-    standoff: float = 0.0             # metres from the object's centre to the camera; 0 = auto
-    min_object_fraction: float = 0.003  # fewer object pixels (share of the model's image): empty
-    max_empty_views: int = 3          # this many empty images in a row end the episode
-    box_margin: float = 0.1           # keep points this far (x object_size) outside the box
+    object_size: float = option(1.0, lo=0, lo_open=True)  # metres: the object box's longest edge
+    standoff: float = option(0.0, lo=0)  # metres from the object's centre to the camera; 0 = auto
+    # fewer object pixels (share of the model's image): the image is empty
+    min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
+    max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
+    box_margin: float = option(0.1, lo=0, hi=1)  # keep points this far (x object_size) outside
 
     def __post_init__(self):
-        checks = {"object_size": self.object_size > 0, "standoff": self.standoff >= 0,
-                  "min_object_fraction": 0 <= self.min_object_fraction < 1,
-                  "max_empty_views": self.max_empty_views >= 1,
-                  "box_margin": 0 <= self.box_margin <= 1}
-        for name, ok in checks.items():
-            value = getattr(self, name)
-            if not ok or not math.isfinite(value):
-                raise ValueError(f"{name} = {value!r} is out of range (see SensingConfig)")
+        validate(self)
 
 
 @dataclass
@@ -145,7 +139,7 @@ class ActiveRecognizer:
         this resolution; without a pose: the view asked for."""
         metres = np.asarray(metres, dtype=np.float32)
         if metres.ndim != 2:
-            raise ValueError(f"depth must be an (H, W) image, got shape {metres.shape}")
+            raise InputError(f"depth must be an (H, W) image, got shape {metres.shape}")
         if position is None:
             position, rotation = self.requested_pose(k)
         if k is None:

@@ -59,18 +59,23 @@ def table(rows, header):
     return "\n".join(lines)
 
 
+def at_369(acc):
+    """Table cells of the accuracy (%) after 3, 6 and 9 views; "-" beyond the episode's length."""
+    return [f"{100 * acc[k]:.1f}" if k in acc else "-" for k in ("3", "6", "9")]
+
+
 def render_markdown(results, s, cfg):
     n = len(next(iter(results.values())).objects)
     parts = [f"Dataset `{cfg.dataset}` ({cfg.split} split), {n} episodes "
              f"({cfg.starts} initial view(s) per object, seed {cfg.seed}), {cfg.steps} views each. "
              "`oracle` is privileged: it renders every candidate view of the object.", "",
              "### Accuracy (%) after 3 / 6 / 9 views, each planner with its recurrent classifier", "",
-             table([[k] + [f"{100 * v:.1f}" for v in s["acc"][k].values()] for k in results],
+             table([[k] + at_369(s["acc"][k]) for k in results],
                    ["planner", "3 views", "6 views", "9 views"])]
     if "acc_shared" in s:
         parts += ["", "### Accuracy (%) with one shared multi-view classifier (views compared, "
                   "not classifiers)", "",
-                  table([[k] + [f"{100 * v:.1f}" for v in s["acc_shared"][k].values()] for k in results],
+                  table([[k] + at_369(s["acc_shared"][k]) for k in results],
                         ["planner", "3 views", "6 views", "9 views"])]
     steps = len(next(iter(s["gain"].values())))
     parts += ["", "### Accuracy (%) after 1..T views", "",
@@ -169,6 +174,27 @@ def time_offset(rows):
     """Wall-clock at the start of the joint stage (end of pre-training, if in the same run)."""
     pre = [float(r["wall_s"]) for r in rows if r["stage"] == "pretrain"]
     return max(pre) if pre else 0.0
+
+
+def load_run_metrics(path, column="acc_3"):
+    """The rows of a run's metrics.csv, for training_time; InputError naming the file unless every
+    row has a number for wall_s and the joint-stage rows one for `column` too."""
+    import csv
+    import io
+
+    from .validation import InputError, read_text
+
+    rows = list(csv.DictReader(io.StringIO(read_text(path, "metrics"))))
+    try:
+        joint = [r for r in rows if r["stage"] == "joint"]
+        ok = joint and all(np.isfinite([float(r["wall_s"]) for r in rows]
+                                       + [float(r[column]) for r in joint]))
+    except (KeyError, TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise InputError(f"metrics {path}: not a training run's metrics.csv with joint-stage rows "
+                         f"of wall_s and {column} (train with --eval-shapes > 0)")
+    return rows
 
 
 def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):

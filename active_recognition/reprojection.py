@@ -35,6 +35,7 @@ import numpy as np
 
 from . import geometry
 from .depth_layer import CameraConfig, normalise_depth
+from .validation import InputError
 
 STANDOFF_MARGIN = 1.1  # the auto standoff leaves 10 % around the object's bounding sphere
 
@@ -158,10 +159,10 @@ def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera
     (columns x right, y down, z forward) of the camera in the object frame; camera the model's.
     """
     if not (math.isfinite(object_size) and object_size > 0):
-        raise ValueError(f"object_size must be a positive number of metres, got {object_size}")
+        raise InputError(f"object_size must be a positive number of metres, got {object_size}")
     z = np.asarray(metres, dtype=np.float64)
     if z.shape != (k.height, k.width):
-        raise ValueError(f"depth image is {z.shape[1]}x{z.shape[0]} but the camera info says "
+        raise InputError(f"depth image is {z.shape[1]}x{z.shape[0]} but the camera info says "
                          f"{k.width}x{k.height}")
     if fill:  # pixels lost inside surfaces (dropout, flying pixels): fill them where they are
         z = fill_holes(np.where(np.isfinite(z) & (z > 0), z, np.inf))

@@ -74,11 +74,14 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
 def load_or_train(path, shapes, classes, **kwargs):
     """The shared classifier at `path`, trained and saved there first if missing."""
     if path.exists():
-        ckpt = checkpoint.read_any(path)
-        if ckpt.get("classes") == list(classes):
-            net = MultiViewClassifier(len(classes))
-            net.load_state_dict(ckpt["model"])
-            return net.eval()
+        try:
+            ckpt = checkpoint.read_any(path)
+            if ckpt.get("classes") == list(classes) and checkpoint.nonfinite(ckpt["model"]) is None:
+                net = MultiViewClassifier(len(classes))
+                net.load_state_dict(ckpt["model"])
+                return net.eval()
+        except (checkpoint.CheckpointError, RuntimeError, TypeError) as e:  # a damaged cache
+            print(f"{path} is not usable ({str(e)[:200]}): training it again", file=sys.stderr)
     net = train_shared(shapes, len(classes), **kwargs)
     checkpoint.save(path, {"model": net.state_dict(), "model_args": {}, "classes": list(classes),
                            "kind": "shared_multiview"})

@@ -30,6 +30,7 @@ from . import geometry
 from .datasets import default_cache_dir, open_dataset
 from .depth_layer import CameraConfig, DepthCamera
 from .meshes import load_mesh, normalise
+from .validation import InputError, option, validate
 
 NOISE = ("none", "kinect")
 ENCODINGS = ("32FC1", "16UC1")
@@ -41,7 +42,7 @@ def load_object(mesh="", dataset="procedural", split="test", index=0, root=""):
         return (*load_mesh(mesh), mesh)
     ds = open_dataset(dataset, root or None, split, cache_dir=default_cache_dir())
     if not 0 <= index < len(ds):
-        raise ValueError(f"{dataset}/{split} has {len(ds)} objects; index {index} is out of range")
+        raise InputError(f"{dataset}/{split} has {len(ds)} objects; index {index} is out of range")
     return (*ds.mesh(index), f"{dataset}/{split}[{index}] ({ds.classes[ds.items[index][1]]})")
 
 
@@ -52,38 +53,33 @@ def kinect_sigma(z):
 
 @dataclass(frozen=True)
 class SensorConfig:
-    width: int = 64
-    height: int = 64
-    fov: float = 120.0          # horizontal field of view, degrees (used unless fx > 0)
-    fx: float = 0.0             # K in pixels; 0 = from fov, square pixels, centred
-    fy: float = 0.0
-    cx: float = 0.0
-    cy: float = 0.0
-    noise: str = "none"         # none | kinect
-    noise_scale: float = 1.0    # multiplies the noise's sigma
-    dropout: float = 0.0        # fraction of pixels with no return, at random
-    # edge_dropout, degrees: drop pixels beside a depth jump steeper than a surface seen this far
-    # from face-on (flying pixels); 0 = off
-    edge_dropout: float = 0.0
-    min_range: float = 0.0      # metres; no return nearer
-    max_range: float = 0.0      # metres; no return farther; 0 = unlimited
-    encoding: str = "32FC1"     # 16UC1 = whole millimetres
-    floor: bool = False         # a plane under the object, seen from above
-    pose_error_deg: float = 0.0  # the arm misses each requested pose by this orbit angle
-    object_size: float = 1.0    # metres: the mesh's longest bounding-box edge
+    width: int = option(64, lo=1, hi=4096)
+    height: int = option(64, lo=1, hi=4096)
+    # horizontal field of view, degrees (used unless fx > 0)
+    fov: float = option(120.0, lo=0, hi=180, lo_open=True, hi_open=True)
+    fx: float = option(0.0, lo=0)   # K in pixels; 0 = from fov, square pixels, centred
+    fy: float = option(0.0, lo=0)
+    cx: float = option(0.0, lo=0)
+    cy: float = option(0.0, lo=0)
+    noise: str = option("none", choices=NOISE)
+    noise_scale: float = option(1.0, lo=0)   # multiplies the noise's sigma
+    dropout: float = option(0.0, lo=0, hi=1, hi_open=True)  # share of pixels lost at random
+    # degrees: drop pixels beside a depth jump steeper than a surface seen this far from face-on
+    # (flying pixels); 0 = off
+    edge_dropout: float = option(0.0, lo=0, hi=90, hi_open=True)
+    min_range: float = option(0.0, lo=0)     # metres; no return nearer
+    max_range: float = option(0.0, lo=0)     # metres; no return farther; 0 = unlimited
+    encoding: str = option("32FC1", choices=ENCODINGS)  # 16UC1 = whole millimetres
+    floor: bool = option(False)   # a plane under the object, seen from above
+    # the arm misses each requested pose by this orbit angle
+    pose_error_deg: float = option(0.0, lo=0, hi=90, hi_open=True)
+    object_size: float = option(1.0, lo=0, lo_open=True)  # metres: the mesh's longest box edge
 
     def __post_init__(self):
-        checks = {"fov": 0 < self.fov < 180, "noise": self.noise in NOISE,
-                  "noise_scale": self.noise_scale >= 0, "dropout": 0 <= self.dropout < 1,
-                  "edge_dropout": 0 <= self.edge_dropout < 90, "min_range": self.min_range >= 0,
-                  "max_range": self.max_range == 0 or self.max_range > self.min_range,
-                  "encoding": self.encoding in ENCODINGS,
-                  "pose_error_deg": 0 <= self.pose_error_deg < 90,
-                  "object_size": self.object_size > 0 and math.isfinite(self.object_size)}
-        for name, ok in checks.items():
-            if not ok:
-                raise ValueError(f"camera {name} = {getattr(self, name)!r} is out of range "
-                                 f"(see SensorConfig in simulated_camera.py)")
+        validate(self, "camera ")
+        if self.max_range and self.max_range <= self.min_range:
+            raise InputError(f"camera max_range ({self.max_range}) must be 0 (none) or more than "
+                             f"min_range ({self.min_range})")
         self.intrinsics()  # validates the size and K
 
     def intrinsics(self) -> geometry.Intrinsics:
@@ -184,5 +180,5 @@ class SimulatedCamera:
 def sensor_config(preset="virtual", **changes):
     """A preset ("virtual" or "realsense") with some fields changed."""
     if preset not in PRESETS:
-        raise ValueError(f"camera must be one of {tuple(PRESETS)}, got {preset!r}")
+        raise InputError(f"camera must be one of {tuple(PRESETS)}, got {preset!r}")
     return replace(PRESETS[preset], **changes)

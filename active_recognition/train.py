@@ -29,7 +29,7 @@ import math
 import os
 import sys
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
@@ -40,71 +40,68 @@ from tqdm import tqdm
 
 from . import checkpoint, geometry
 from .augment import Augment
-from .datasets import default_cache_dir, open_dataset
-from .depth_layer import CameraConfig, DepthCamera
+from .datasets import NAMES, default_cache_dir, open_dataset
+from .depth_layer import CameraConfig, DepthCamera, GRADIENT_RULES
 from .episode import Episode, EpisodeConfig, run
 from .model import ModelConfig, RecurrentAttention
 from .policies import lookahead_logits, visited_mask
+from .validation import Check, InputError, SEED_MAX, option, output_dir, validate
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
 POLICIES = ("learned", "reinforce", "hybrid", "imitation")
+MAX_EPOCHS = 100_000
 
 
 @dataclass
 class TrainConfig:
-    dataset: str = "procedural"
-    root: str | None = None
-    out: str = "runs/procedural"
-    stage: str = "all"                # pretrain | joint | all
-    policy: str = "learned"           # learned (end to end) | reinforce | hybrid (both) | imitation
-    imitation_mix: float = 0.5        # imitation: chance that a step follows the oracle, not FC_view
-    revisit_penalty: float = 0.0      # learned: weight of VERAM's penalty on revisiting views
-    pretrain_epochs: int = 6
-    joint_epochs: int = 6
-    batch_size: int = 32
-    views_per_shape: int = 4          # pre-training images per shape per batch
-    steps: int = 10                   # views per training episode
-    lr_pretrain: float = 1e-3         # Adam; the paper's SGD used 0.01
-    lr_joint: float = 3e-4            # the paper: 0.001
-    view_gradient: str = "surface"    # paper | surface
-    lr_view_scale: float = 1.0        # FC_loc's learning rate relative to the rest (joint stage)
-    step_weighting: str = "uniform"   # uniform | early: the joint loss's weights over the steps
-    initial_step: list | None = None  # (dtheta, dphi) rad: FC_loc's bias when the joint stage starts
-    gradient_reduction: str = "mean"  # mean (the paper) | sum
-    eval_shapes: int = 200            # test shapes scored after each epoch (0: none)
-    checkpoint_every: int = 50        # batches
-    seed: int = 0
-    device: str = "cpu"
-    resume: bool = False
-    max_shapes: int = 0               # use only the first N training shapes (0: all)
-    yaw: bool = False                 # augment: objects turned by a random yaw (unknown heading)
-    frame_error: float = 0.0          # augment: object frame off by up to this (centre, size)
-    floor_cut: float = 0.0            # augment: up to this fraction of the bottom cut away
-    dropout: float = 0.0              # augment: up to this fraction of pixels (and edges) missing
-    model: dict = field(default_factory=dict)  # ModelConfig overrides
+    dataset: str = option("procedural", choices=NAMES)
+    root: str | None = option(None, kind=str, optional=True, length=(1, None))
+    out: str = option("runs/procedural", length=(1, None))
+    stage: str = option("all", choices=STAGES + ("all",))
+    # learned (end to end) | reinforce | hybrid (both) | imitation
+    policy: str = option("learned", choices=POLICIES)
+    imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
+    revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
+    pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
+    joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
+    batch_size: int = option(32, lo=1, hi=100_000)
+    views_per_shape: int = option(4, lo=1, hi=1000)  # pre-training images per shape per batch
+    steps: int = option(10, lo=1, hi=100)            # views per training episode
+    lr_pretrain: float = option(1e-3, lo=0, lo_open=True)  # Adam; the paper's SGD used 0.01
+    lr_joint: float = option(3e-4, lo=0, lo_open=True)     # the paper: 0.001
+    view_gradient: str = option("surface", choices=GRADIENT_RULES)
+    lr_view_scale: float = option(1.0, lo=0)  # FC_loc's learning rate relative to the rest (joint)
+    step_weighting: str = option("uniform", choices=STEP_WEIGHTINGS)  # the joint loss's weights
+    # (dtheta, dphi) rad: FC_loc's bias when the joint stage starts
+    initial_step: list | None = option(None, kind=list, optional=True, length=(2, 2),
+                                       items=Check(float))
+    gradient_reduction: str = option("mean", choices=("mean", "sum"))
+    eval_shapes: int = option(200, lo=0)        # test shapes scored after each epoch (0: none)
+    checkpoint_every: int = option(50, lo=1)    # batches
+    seed: int = option(0, lo=0, hi=SEED_MAX)
+    device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N")
+    resume: bool = option(False)
+    max_shapes: int = option(0, lo=0)           # use only the first N training shapes (0: all)
+    yaw: bool = option(False)                   # augment: objects turned by a random yaw
+    frame_error: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: frame off by up to this
+    floor_cut: float = option(0.0, lo=0, hi=0.5, hi_open=True)    # augment: bottom cut by up to this
+    dropout: float = option(0.0, lo=0, hi=0.5, hi_open=True)      # augment: pixels missing, up to this
+    model: dict = option({}, schema=ModelConfig)  # ModelConfig overrides
 
     def __post_init__(self):
-        if self.stage not in STAGES + ("all",):
-            raise ValueError(f"stage must be pretrain, joint or all, got {self.stage!r}")
-        if self.view_gradient not in ("paper", "surface"):
-            raise ValueError(f"view gradient must be paper or surface, got {self.view_gradient!r}")
-        if self.policy not in POLICIES:
-            raise ValueError(f"policy must be one of {POLICIES}, got {self.policy!r}")
-        if not (math.isfinite(self.revisit_penalty) and self.revisit_penalty >= 0):
-            raise ValueError(f"revisit_penalty must be >= 0, got {self.revisit_penalty}")
-        if not 0 <= self.imitation_mix <= 1:
-            raise ValueError(f"imitation_mix must lie in [0, 1], got {self.imitation_mix}")
-        if self.batch_size < 1 or self.steps < 1:
-            raise ValueError("batch size and steps must be at least 1")
-        if self.step_weighting not in STEP_WEIGHTINGS:
-            raise ValueError(f"step weighting must be one of {STEP_WEIGHTINGS}, "
-                             f"got {self.step_weighting!r}")
-        self.augment()  # refuses bad augmentation now, not after loading the data
-        if self.initial_step is not None and (len(self.initial_step) != 2 or not all(
-                math.isfinite(float(v)) for v in self.initial_step)):
-            raise ValueError(f"initial step must be two finite angles (dtheta, dphi), "
-                             f"got {self.initial_step!r}")
+        validate(self)
+        if "num_classes" in self.model:
+            raise InputError("model.num_classes comes from the dataset's classes: leave it out")
+        if self.policy == "imitation" and not self.model.get("candidates"):
+            raise InputError("policy imitation needs a view-scoring head: set model.candidates "
+                             "(--candidates 50)")
+        if self.initial_step is not None:  # refuse it now, not after pre-training
+            initial_step_bias(self.initial_step, self.model.get("max_step", ModelConfig.max_step))
+        epochs = {"pretrain": self.pretrain_epochs, "joint": self.joint_epochs}
+        if not any(epochs[s] for s in (STAGES if self.stage == "all" else (self.stage,))):
+            raise InputError(f"nothing to train: stage {self.stage} with pretrain_epochs "
+                             f"{self.pretrain_epochs} and joint_epochs {self.joint_epochs}")
 
     def augment(self) -> Augment:
         """The augmentation these options ask for."""
@@ -127,7 +124,7 @@ def initial_step_bias(step, bound):
     """FC_loc's bias that makes the untrained view head walk `step`: atanh(step / bound)."""
     ratio = torch.as_tensor([float(v) for v in step]) / bound
     if ratio.abs().max() >= 1:
-        raise ValueError(f"initial step {list(step)} must lie inside the increment bound "
+        raise InputError(f"initial step {list(step)} must lie inside the increment bound "
                          f"max_step = {bound}")
     return torch.atanh(ratio)
 
@@ -296,7 +293,7 @@ def resolve_device(device, rank):
     if device == "cuda" and int(os.environ.get("WORLD_SIZE", "1")) > 1:
         return f"cuda:{int(os.environ.get('LOCAL_RANK', rank))}"
     if device.startswith("cuda") and not torch.cuda.is_available():
-        raise ValueError(f"device {device!r} asked for, but torch sees no CUDA GPU")
+        raise InputError(f"device {device!r} asked for, but torch sees no CUDA GPU")
     return device
 
 
@@ -311,7 +308,7 @@ def batches(n, batch, seed, stage, epoch, rank, world):
 def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None):
     """Accuracy after 1, 3, 10 views from fixed initial views on a seeded sample of n shapes,
     with the model's own view head (or `planner`)."""
-    if n <= 0:
+    if n <= 0 or not len(shapes):
         return {}
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(shapes))[:n])  # a fixed, seeded subset of every class
@@ -352,51 +349,73 @@ def read_metrics(path):
         return list(csv.DictReader(f))
 
 
+def stop_if_diverged(model, where, ckpt_path, saved, loss=None):
+    """InputError when `loss` (if given), else any weight, is not finite: training has diverged.
+    The message says where and which checkpoint is the last good one (none is overwritten)."""
+    if loss is not None:
+        bad = None if math.isfinite(loss) else f"the loss became {loss}"
+    else:
+        name = checkpoint.nonfinite(model.state_dict())
+        bad = None if name is None else f"weight {name} became non-finite"
+    if bad is None:
+        return
+    last = (f"the last good checkpoint is {ckpt_path} (step {saved})" if saved is not None else
+            "no checkpoint had been written yet")
+    raise InputError(f"training stopped at {where}: {bad} (is a learning rate too high?); {last}")
+
+
 def train(cfg: TrainConfig, progress=True):
     """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt."""
     rank, world = distributed(cfg.device)
     device = resolve_device(cfg.device, rank)
     torch.manual_seed(cfg.seed)
-    out = Path(cfg.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_dir(cfg.out, "out")
     ckpt_path, metrics_path = out / "last.pt", out / "metrics.csv"
+    if cfg.resume and not ckpt_path.exists():
+        raise InputError(f"resume: {ckpt_path} does not exist, so there is nothing to resume "
+                         f"(leave out --resume to start afresh)")
     cache = default_cache_dir()
-    train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache)
+    train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache).require_objects()
+    if len(train_ds.classes) < 2:
+        raise InputError(f"{train_ds.layout or cfg.dataset}: {len(train_ds.classes)} class "
+                         f"{train_ds.classes}; recognising needs at least 2")
     test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
     if cfg.max_shapes:  # a seeded subset with every class in it
         train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
     mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
-    if cfg.policy == "imitation" and not mcfg.candidates:
-        raise ValueError("policy imitation needs a view-scoring head: set model.candidates "
-                         "(--candidates 50)")
-    if cfg.initial_step is not None:  # refuse it now, not after pre-training
-        initial_step_bias(cfg.initial_step, mcfg.max_step)
     model = RecurrentAttention(mcfg).to(device)
     camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
     shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
     augment = cfg.augment()
     corrupt = augment.images if augment.dropout > 0 else None
     state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
-    rows, elapsed, opt_state = [], 0.0, None
-    if cfg.resume and ckpt_path.exists():
-        ckpt = checkpoint.read(ckpt_path)
-        model.load_state_dict(checkpoint.build_model(ckpt, ckpt_path).state_dict())
+    rows, elapsed, opt_state, saved = [], 0.0, None, None
+    if cfg.resume:
+        ckpt = checkpoint.read_fitting(ckpt_path, mcfg, train_ds.classes, resumable=True)
+        model.load_state_dict(ckpt["model"])
         state, elapsed, opt_state = dict(ckpt["state"]), ckpt["elapsed"], ckpt["optimizer"]
-        rows = read_metrics(metrics_path)
+        rows, saved = read_metrics(metrics_path), state["step"]
         if rank == 0:
             print(f"resumed from {ckpt_path} at {state}", file=sys.stderr)
     stages = STAGES if cfg.stage == "all" else (cfg.stage,)
     if cfg.stage == "joint" and not cfg.resume and (out / "pretrained.pt").exists():
-        model.load_state_dict(checkpoint.read(out / "pretrained.pt")["model"])
+        model.load_state_dict(checkpoint.read_fitting(out / "pretrained.pt", mcfg,
+                                                      train_ds.classes)["model"])
+    elif cfg.stage == "joint" and not cfg.resume and rank == 0:
+        print(f"warning: no {out / 'pretrained.pt'}: the joint stage starts from an untrained "
+              f"classifier", file=sys.stderr)
     start = time.perf_counter() - elapsed
 
     def save_state(opt):
+        nonlocal saved
         if rank == 0:
+            stop_if_diverged(model, f"step {state['step']}", ckpt_path, saved)
             payload = {"model": model.state_dict(), "model_args": mcfg.to_dict(),
                        "classes": list(train_ds.classes), "optimizer": opt.state_dict(),
                        "state": dict(state), "config": asdict(cfg),
                        "elapsed": time.perf_counter() - start}
             checkpoint.save(ckpt_path, payload)
+            saved = state["step"]
 
     for s, stage in enumerate(STAGES):
         if stage not in stages or s < state["stage"]:
@@ -413,7 +432,11 @@ def train(cfg: TrainConfig, progress=True):
         scale = cfg.lr_view_scale if stage == "joint" else 1.0
         opt = torch.optim.Adam([{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}])
         if opt_state is not None:
-            opt.load_state_dict(opt_state)
+            try:
+                opt.load_state_dict(opt_state)
+            except (ValueError, KeyError, TypeError, RuntimeError) as e:
+                raise checkpoint.CheckpointError(ckpt_path, f"its optimizer state does not fit this "
+                                                            f"run ({str(e)[:200]})") from None
             opt_state = None
         if stage == "pretrain":
             wrapper = PretrainLoss(model)
@@ -451,6 +474,8 @@ def train(cfg: TrainConfig, progress=True):
                 else:
                     views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
                     loss, acc = net(cams, views, y)
+                stop_if_diverged(model, f"{stage} epoch {epoch + 1}, batch {b + 1} (step "
+                                 f"{state['step'] + 1})", ckpt_path, saved, loss.item())
                 opt.zero_grad()
                 loss.backward()
                 opt.step()
@@ -478,10 +503,12 @@ def train(cfg: TrainConfig, progress=True):
         del net, wrapper
         gc.collect()
         if stage == "pretrain" and rank == 0:
+            stop_if_diverged(model, "the end of pre-training", ckpt_path, saved)
             checkpoint.save(out / "pretrained.pt", {"model": model.state_dict(),
                                                     "model_args": mcfg.to_dict(),
                                                     "classes": list(train_ds.classes)})
     if rank == 0:
+        stop_if_diverged(model, "the end", ckpt_path, saved)
         checkpoint.save(out / "final.pt", {"model": model.state_dict(), "model_args": mcfg.to_dict(),
                                            "classes": list(train_ds.classes), "config": asdict(cfg),
                                            "elapsed": time.perf_counter() - start})

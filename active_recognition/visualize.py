@@ -43,19 +43,24 @@ def save_figure(fig, path, **kwargs):
 
 
 def depth_grid(images, path, titles=None, columns=None, row_labels=None):
-    """Write a grid of normalised depth images (N, H, W) in [0, 255] as a PNG."""
+    """Write a grid of normalised depth images (N, H, W) in [0, 255] as a PNG; None leaves a
+    cell blank."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    images = np.asarray(images)
+    from .validation import InputError
+
+    images = list(images)
     n = len(images)
+    if all(image is None for image in images):
+        raise InputError(f"{path}: no images to draw")
     columns = columns or int(np.ceil(np.sqrt(n)))
     rows = int(np.ceil(n / columns))
     fig, axes = plt.subplots(rows, columns, figsize=(1.6 * columns, 1.7 * rows), squeeze=False)
     for i, ax in enumerate(axes.flat):
         ax.set_axis_off()
-        if i < n:
+        if i < n and images[i] is not None:
             ax.imshow(images[i], cmap="viridis", vmin=0, vmax=255)
             if titles is not None:
                 ax.set_title(titles[i], fontsize=7)

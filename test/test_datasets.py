@@ -24,9 +24,13 @@ from active_recognition.datasets.parts import Style, leg, place, slab
 from active_recognition.datasets.procedural import CLASSES, make_shape
 from active_recognition.depth_layer import CameraConfig, DepthCamera
 from active_recognition.meshes import MeshError, load_mesh
+from active_recognition.validation import InputError
 
 CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+PLY_HEADER = ("ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\n"
+              "property float z\nelement face {}\nproperty list uchar int vertex_indices\n"
+              "end_header\n")
 
 
 def write_off(path, verts, faces, fused=False):
@@ -62,7 +66,13 @@ def test_offset_and_scaled_mesh_is_normalised(tmp_path):
     ("empty.off", "", "empty"),
     ("trunc.off", "OFF\n8 6 0\n0 0 0\n1 0 0\n", "truncated"),
     ("garbage.off", "\x00\x01hello", "OFF"),
-    ("garbage.obj", "this is not a mesh at all", ""),
+    ("garbage.obj", "this is not a mesh at all", "fewer than 3 vertices"),
+    ("lie.off", "OFF\n3 1000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "declares 1000 faces but the file holds 1"),
+    ("lie.ply", PLY_HEADER.format(3, 1000) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "declares 3 vertices and 1000 faces, the file holds 3 and 1"),
+    ("fewverts.ply", PLY_HEADER.format(300, 1) + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+     "declares 300 vertices"),
     ("flat.off", "OFF\n3 1 0\n0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n", "zero"),
     ("mesh.txt", "whatever", "unsupported"),
 ])
@@ -72,6 +82,33 @@ def test_bad_files_raise_one_clear_error(tmp_path, name, content, reason):
     with pytest.raises(MeshError) as e:
         load_mesh(path)
     assert name in str(e.value) and reason.lower() in str(e.value).lower()
+
+
+@pytest.mark.parametrize("suffix,reason", [
+    (".obj", "not a text OBJ file"), (".off", "not a text OFF file"),
+    (".ply", "not a PLY file (no 'ply' signature)"), (".glb", "not a GLB file"),
+    (".stl", "not an STL file")])
+def test_random_bytes_give_a_message_about_the_file(tmp_path, suffix, reason):
+    path = tmp_path / f"noise{suffix}"
+    path.write_bytes(np.random.default_rng(7).integers(0, 256, 3000, dtype=np.uint8).tobytes())
+    with pytest.raises(MeshError) as e:
+        load_mesh(path)
+    assert str(e.value) == f"{path}: {e.value.reason}" and reason in e.value.reason
+    assert "module" not in str(e.value)
+
+
+def test_a_ply_of_quads_declares_fewer_faces_than_its_triangles_and_loads(tmp_path):
+    body = "".join(f"{x} {y} {z}\n" for x, y, z in CUBE_V)
+    body += "".join(f"4 {' '.join(map(str, q))}\n" for q in CUBE_QUADS)
+    (tmp_path / "cube.ply").write_text(PLY_HEADER.format(8, 6) + body)
+    v, f = load_mesh(tmp_path / "cube.ply")
+    assert f.shape == (12, 3) and abs(trimesh.Trimesh(v, f).area - 6.0) < 1e-6
+
+
+def test_a_folder_named_like_a_mesh_is_named_as_a_folder(tmp_path):
+    (tmp_path / "dir.obj").mkdir()
+    with pytest.raises(MeshError, match="dir.obj: is a directory, not a file"):
+        load_mesh(tmp_path / "dir.obj")
 
 
 def test_modelnet_tree_with_a_bad_file(tmp_path):
@@ -92,6 +129,41 @@ def test_modelnet_tree_with_a_bad_file(tmp_path):
     assert len(list((tmp_path / "cache" / "meshes").glob("*.npz"))) == 6
     for i in range(len(again)):
         np.testing.assert_array_equal(again.mesh(i)[0], train.mesh(i)[0])
+
+
+def test_a_class_in_one_split_only_keeps_its_label_and_counts_zero_in_the_other(tmp_path):
+    for c, splits in (("chair", ("train", "test")), ("lamp", ("test",)), ("table", ("train", "test"))):
+        for split in splits:
+            (tmp_path / c / split).mkdir(parents=True)
+            write_off(tmp_path / c / split / f"{c}.off", CUBE_V, CUBE_QUADS)
+    train, test = (open_dataset("modelnet", tmp_path, s, cache_dir=str(tmp_path / "c"))
+                   for s in ("train", "test"))
+    assert train.classes == test.classes == ["chair", "lamp", "table"]
+    assert list(train.class_counts()) == [1, 0, 1] and list(test.class_counts()) == [1, 1, 1]
+    for p, label in test.items:  # each object under its own folder's class
+        assert test.classes[label] == p.parent.parent.name
+    assert len(list((tmp_path / "c" / "meshes").glob("*.npz"))) == 5  # a str cache_dir works
+
+
+def test_a_layout_that_finds_no_objects_says_what_it_looked_for(tmp_path):
+    (tmp_path / "chair" / "train").mkdir(parents=True)
+    write_off(tmp_path / "chair" / "train" / "a.off", CUBE_V, CUBE_QUADS)
+    ds = open_dataset("folder", tmp_path, "train")
+    assert len(ds) == 0
+    with pytest.raises(InputError, match=r"no train objects found in folder root .*<class>/\*"
+                                         r".*look like modelnet's: --name modelnet\?"):
+        ds.require_objects()
+    assert open_dataset("modelnet", tmp_path, "train").require_objects().classes == ["chair"]
+
+
+def test_a_damaged_generated_cache_is_rebuilt_not_trusted(tmp_path):
+    ds = procedural("test", cache_dir=tmp_path, per_class=2)
+    (cached,) = (tmp_path / "procedural").glob("*.npz")
+    cached.write_bytes(cached.read_bytes()[:100])  # a half-written file
+    again = procedural("test", cache_dir=tmp_path, per_class=2)
+    for i in range(len(ds)):
+        np.testing.assert_array_equal(again.mesh(i)[0], ds.mesh(i)[0])
+    assert procedural("test", cache_dir=tmp_path, per_class=2).mesh(3)[1].shape == ds.mesh(3)[1].shape
 
 
 def test_shapenet_tree_uses_taxonomy_and_a_stable_split(tmp_path):
@@ -122,10 +194,17 @@ def test_folder_layout(tmp_path):
 
 
 def test_unknown_dataset_and_missing_root_are_clear_errors(tmp_path):
-    with pytest.raises(ValueError, match="dataset must be one of"):
+    with pytest.raises(InputError, match="dataset must be one of .*, got 'imagenet'"):
         open_dataset("imagenet")
-    with pytest.raises(ValueError, match="not a directory"):
+    with pytest.raises(InputError, match="nope: no such directory"):
         open_dataset("modelnet", tmp_path / "nope")
+    with pytest.raises(InputError, match=r"needs its root folder \(--root DIR\)"):
+        open_dataset("modelnet")
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(InputError, match="file: is not a directory"):
+        open_dataset("folder", tmp_path / "file")
+    with pytest.raises(InputError, match="procedural dataset is generated: it takes no root"):
+        open_dataset("procedural", tmp_path)
 
 
 def test_procedural_is_deterministic_and_seeds_differ():

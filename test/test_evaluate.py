@@ -24,6 +24,7 @@ from active_recognition import checkpoint
 from active_recognition.evaluate import EvalConfig, evaluate, summary
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.report import training_time
+from active_recognition.validation import InputError
 
 
 @pytest.fixture(scope="module")
@@ -89,7 +90,11 @@ def test_table_columns_equal_the_curve_and_files_are_written(results):
     rows = list(csv.DictReader(open(out / "per_object.csv")))
     assert len(rows) == 12 * 5
     assert json.loads((out / "summary.json").read_text())["acc"]["random"] == s["acc"]["random"]
-    assert "| learned |" in (out / "report.md").read_text()
+    report = (out / "report.md").read_text()
+    for name, ro in res.items():  # each row holds that planner's own figures (4 views: 3 only)
+        assert f"| {name} | {100 * ro.accuracy()[2]:.1f} | - | - |" in report
+        curve = " | ".join(f"{100 * a:.1f}" for a in ro.accuracy())
+        assert f"| {name} | {curve} |" in report
 
 
 def test_training_time_ratio_from_metrics():
@@ -103,11 +108,38 @@ def test_training_time_ratio_from_metrics():
     assert t["ratio"] == 0.25
 
 
-def test_unknown_planner_and_missing_reinforce_model_are_refused():
-    with pytest.raises(ValueError, match="planner must be among"):
+def test_unknown_planner_and_missing_reinforce_model_are_refused(tmp_path):
+    with pytest.raises(InputError, match=r"planners\[0\] must be one of learned, .*'psychic'"):
         evaluate(EvalConfig(planners=("psychic",)))
-    with pytest.raises(ValueError, match="reinforce-checkpoint"):
+    with pytest.raises(InputError, match="reinforce-checkpoint"):
         evaluate(EvalConfig(planners=("reinforce",)))
+    out = str(tmp_path / "out")
+    with pytest.raises(InputError, match="planner checkpoint psychic=x.pt: no such planner"):
+        evaluate(EvalConfig(planner_checkpoints={"psychic": "x.pt"}, out=out))
+    with pytest.raises(InputError, match="checkpoint .*missing.pt: no such file"):
+        evaluate(EvalConfig(planner_checkpoints={"learned": str(tmp_path / "missing.pt")}, out=out))
+    assert not (tmp_path / "out").exists()  # refused before anything was written
+
+
+def test_more_objects_than_the_split_holds_are_refused(results, tmp_path):
+    _, cfg, _ = results
+    with pytest.raises(InputError, match="objects = 501, but the procedural test split holds 500"):
+        evaluate(EvalConfig(checkpoint=cfg.checkpoint, planners=("random",), objects=501,
+                            shared=False, out=str(tmp_path / "out")))
+
+
+def test_a_metrics_file_without_joint_rows_is_refused_by_name(tmp_path):
+    from active_recognition.report import load_run_metrics
+    good = "stage,epoch,wall_s,acc_3\npretrain,1,5.0,\njoint,1,9.5,0.75\n"
+    (tmp_path / "good.csv").write_text(good)
+    assert [r["acc_3"] for r in load_run_metrics(tmp_path / "good.csv")] == ["", "0.75"]
+    for name, text in {"no_joint.csv": "stage,epoch,wall_s,acc_3\npretrain,1,5.0,\n",
+                       "no_acc.csv": "stage,epoch,wall_s\njoint,1,9.5\n",
+                       "nan.csv": "stage,epoch,wall_s,acc_3\njoint,1,nan,0.7\n",
+                       "empty.csv": ""}.items():
+        (tmp_path / name).write_text(text)
+        with pytest.raises(InputError, match=f"metrics .*{name}: not a training run's metrics"):
+            load_run_metrics(tmp_path / name)
 
 
 def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):

@@ -23,6 +23,7 @@ from active_recognition.depth_layer import CameraConfig, DepthCamera, render_vie
 from active_recognition.episode import Episode, EpisodeConfig, entropy, run
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.train import JointLoss
+from active_recognition.validation import InputError
 
 
 @pytest.mark.parametrize("encoder,size", [("compact", 64), ("alexnet", 227)])
@@ -40,10 +41,12 @@ def test_output_shapes_of_both_encoders(encoder, size):
 
 
 def test_bad_model_configuration_is_refused():
-    with pytest.raises(AssertionError, match="encoder"):
+    with pytest.raises(InputError, match="encoder must be one of compact, alexnet, got 'resnet'"):
         ModelConfig(encoder="resnet")
-    with pytest.raises(AssertionError, match="max_step"):
+    with pytest.raises(InputError, match=r"max_step must be .* got -1"):
         ModelConfig(max_step=-1)
+    with pytest.raises(InputError, match="hidden_size must be an integer from 1 to 8192, got 0"):
+        ModelConfig(hidden_size=0)
 
 
 def confident_model(bias):

@@ -18,8 +18,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import import_ros
 
-pytest.importorskip("sensor_msgs.msg")
+import_ros("sensor_msgs.msg")
 from sensor_msgs.msg import Image  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402

@@ -22,7 +22,9 @@ import time
 import numpy as np
 import pytest
 
-rclpy = pytest.importorskip("rclpy")
+from conftest import import_ros
+
+rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
@@ -249,3 +251,33 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
         expected = geometry.view_from_position(where(ma.view_to_pose(*asked))[0])[1:]
         np.testing.assert_allclose(taken, expected, atol=1e-5)
         assert abs(taken[1] - asked[1]) > 0.3  # and not the view it asked for
+
+
+@pytest.mark.parametrize("node,args,message", [
+    ("recognizer", ["-p", "seed:=-1"], "parameter seed must be an integer from 0 to 4294967295"),
+    ("recognizer", ["-p", "max_views:=0"], "parameter max_views must be an integer from 1 to 1000"),
+    ("recognizer", ["-p", "object_size:=1"], "expecting type 'DOUBLE'"),  # an integer for a double
+    ("recognizer", ["-p", "checkpoint:=/nonexistent.pt"], "/nonexistent.pt: no such file"),
+    ("simulated_camera", ["-p", "dropout:=1.5"], "parameter dropout must be a finite number in"),
+    ("simulated_camera", ["-p", "index:=100000"], "index 100000 is out of range"),
+])
+def test_a_node_that_cannot_start_says_why_in_one_line_and_exits_2(node, args, message):
+    p = subprocess.run([sys.executable, "-m", f"active_recognition.nodes.{node}", "--ros-args",
+                        *args], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
+    errors = [line for line in p.stderr.splitlines() if "error:" in line]
+    assert len(errors) == 1 and message in errors[0], p.stderr
+
+
+def test_bad_parameters_at_run_time_are_refused_and_the_node_keeps_its_settings(loop):
+    ctx, executor, camera, recognizer, client = loop
+    before = recognizer.sensing
+    for name, value, reason in [("box_margin", 2.0, "box_margin must be a finite number in [0, 1]"),
+                                ("pose_tolerance", float("nan"), "pose_tolerance must be"),
+                                ("max_views", 3, "read-only")]:  # read once at start: not ignored
+        result = recognizer.set_parameters([Parameter(name, value=value)])[0]
+        assert not result.successful and reason in result.reason, result.reason
+    assert recognizer.sensing == before and recognizer.pose_tolerance == 0.05
+    assert recognizer.set_parameters([Parameter("object_size", value=2.0)])[0].successful
+    assert recognizer.sensing.object_size == 2.0
+    assert recognize(executor, client) is not None  # and it still recognises

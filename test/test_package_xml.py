@@ -29,7 +29,8 @@ DATA = ROOT / "test" / "data" / "rosdep"
 # setup.py's install_requires -> the rosdep key that installs it
 KEYS = {"numpy": "python3-numpy", "torch": "python3-torch-pip", "trimesh": "python3-trimesh-pip",
         "embreex": "python3-embreex-pip", "tqdm": "python3-tqdm",
-        "matplotlib": "python3-matplotlib", "pyyaml": "python3-yaml"}
+        "matplotlib": "python3-matplotlib", "pyyaml": "python3-yaml", "shapely": "python3-shapely",
+        "mapbox-earcut": "python3-mapbox-earcut-pip"}
 
 
 @pytest.fixture(scope="module")

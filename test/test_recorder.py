@@ -17,8 +17,9 @@ from collections import Counter
 
 import numpy as np
 import pytest
+from conftest import import_ros
 
-rclpy = pytest.importorskip("rclpy")
+rclpy = import_ros("rclpy")
 from mcap.reader import make_reader  # noqa: E402
 from mcap.records import Schema  # noqa: E402
 from mcap_ros2.decoder import DecoderFactory  # noqa: E402

@@ -13,6 +13,7 @@
 # limitations under the License.
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -25,6 +26,7 @@ from active_recognition import checkpoint
 from active_recognition.checkpoint import CheckpointError
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.train import TrainConfig, train
+from active_recognition.validation import InputError
 
 TINY = dict(pretrain_epochs=1, joint_epochs=2, batch_size=6, max_shapes=30, steps=3,
             views_per_shape=2, eval_shapes=0, checkpoint_every=2, seed=3,
@@ -78,6 +80,11 @@ def test_hostile_and_mismatched_checkpoints_are_refused(tmp_path):
         "wrong_classes": ({**base, "classes": ["a", "b"]}, "class names"),
         "other_model": ({**base, "model_args": {**base["model_args"], "hidden_size": 9}}, "do not fit"),
         "bad_args": ({**base, "model_args": {"encoder": "vgg"}}, "bad model_args"),
+        "unknown_arg": ({**base, "model_args": {**base["model_args"], "depth": 3}},
+                        "unknown option model_args.depth"),
+        "nan_weights": ({**base, "model": {k: v * float("nan") if k == "classify.bias" else v
+                                           for k, v in base["model"].items()}},
+                        "weight classify.bias holds NaN or infinite values"),
     }
     for name, (payload, reason) in cases.items():
         checkpoint.save(tmp_path / f"{name}.pt", payload)
@@ -121,6 +128,7 @@ def test_killed_run_resumes_to_the_same_weights(tmp_path):
 TORCHRUN_SCRIPT = """
 import os, sys, torch, torch.distributed as dist
 from active_recognition.train import TrainConfig, train
+from active_recognition.validation import InputError
 cfg = TrainConfig(**eval(sys.argv[1]))
 model = train(cfg, progress=False)
 flat = torch.cat([p.detach().flatten() for p in model.parameters()])
@@ -157,8 +165,55 @@ def test_two_process_torchrun_on_cpu_agrees(tmp_path):
 
 
 def test_an_initial_step_outside_the_bound_is_refused_before_any_training(tmp_path):
-    cfg = TrainConfig(**{**TINY, "out": str(tmp_path / "run"), "initial_step": [0.0, 0.9]})
-    with pytest.raises(ValueError, match="max_step"):
-        train(cfg, progress=False)
-    assert not (tmp_path / "run" / "pretrained.pt").exists()
-    assert not (tmp_path / "run" / "metrics.csv").exists()
+    with pytest.raises(ValueError, match="max_step"):  # by the configuration itself
+        TrainConfig(**{**TINY, "out": str(tmp_path / "run"), "initial_step": [0.0, 0.9]})
+    assert not (tmp_path / "run").exists()
+
+
+def tiny(tree, out, **extra):
+    """A run on the two-class folder tree that takes a few seconds."""
+    return TrainConfig(**{"dataset": "folder", "root": str(tree), "out": str(out),
+                          "pretrain_epochs": 1, "joint_epochs": 1, "batch_size": 4, "steps": 2,
+                          "views_per_shape": 2, "eval_shapes": 0, "checkpoint_every": 1, "seed": 1,
+                          "model": {"hidden_size": 8, "feature_size": 8}, **extra})
+
+
+def test_a_diverging_run_stops_by_name_and_keeps_its_last_good_checkpoint(tiny_tree, tmp_path):
+    run = tmp_path / "run"
+    with pytest.raises(InputError) as e:
+        train(tiny(tiny_tree, run, lr_pretrain=1e6), progress=False)  # Adam steps of ~1e6
+    m = re.fullmatch(r"training stopped at pretrain epoch 1, batch (\d+) \(step (\d+)\): the loss "
+                     r"became (nan|inf) \(is a learning rate too high\?\); the last good checkpoint "
+                     r"is (.+) \(step (\d+)\)", str(e.value))
+    assert m, str(e.value)
+    assert m[4] == str(run / "last.pt") and int(m[5]) == int(m[2]) - 1
+    kept = checkpoint.read(run / "last.pt")
+    assert kept["state"]["step"] == int(m[5]) and checkpoint.nonfinite(kept["model"]) is None
+    assert not (run / "final.pt").exists() and not (run / "pretrained.pt").exists()
+
+
+def test_resume_with_nothing_to_resume_says_so_before_any_work(tmp_path):
+    with pytest.raises(InputError, match="last.pt does not exist, so there is nothing to resume"):
+        train(TrainConfig(resume=True, out=str(tmp_path / "run")), progress=False)
+    assert list((tmp_path / "run").iterdir()) == []
+
+
+def test_resuming_a_run_of_other_options_or_without_state_is_refused(tiny_tree, tmp_path):
+    run = tmp_path / "run"
+    train(tiny(tiny_tree, run, joint_epochs=0), progress=False)
+    other = tiny(tiny_tree, run, resume=True, model={"hidden_size": 16, "feature_size": 8})
+    with pytest.raises(CheckpointError, match=r"written with other model options \(hidden_size "
+                                              r"8, this run 16\): use the same options"):
+        train(other, progress=False)
+    final = checkpoint.read(run / "final.pt")
+    (run / "final.pt").replace(run / "last.pt")  # a finished model has no training state
+    with pytest.raises(CheckpointError, match="holds no training state to resume from"):
+        train(tiny(tiny_tree, run, resume=True), progress=False)
+    state = {"stage": 1, "epoch": 0, "batch": 0, "step": 5}
+    for bad, reason in [({"state": {"stage": "x"}, "optimizer": {}, "elapsed": 1.0},
+                         "holds no training state"),
+                        ({"state": state, "optimizer": {"state": {}, "param_groups": []},
+                          "elapsed": 1.0}, "its optimizer state does not fit this run")]:
+        checkpoint.save(run / "last.pt", {**final, **bad})
+        with pytest.raises(CheckpointError, match=reason):
+            train(tiny(tiny_tree, run, resume=True), progress=False)

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..meshes import MeshError, load_mesh
+from ..validation import InputError
 
 SPLITS = ("train", "test")
 
@@ -51,6 +52,18 @@ def save_npz_atomic(path: Path, **arrays):
     os.replace(tmp, path)
 
 
+def load_npz(path: Path, keys):
+    """The arrays `keys` of a cache file, or None when it is missing or unreadable (a cache
+    written half or damaged is rebuilt, never trusted)."""
+    if not path.is_file():
+        return None
+    try:
+        with np.load(path) as z:
+            return tuple(np.array(z[k]) for k in keys)
+    except Exception:  # truncated zip, bad header, missing key: all mean "rebuild it"
+        return None
+
+
 @dataclass
 class ShapeDataset:
     """Shapes of one split. `items` are (source, label); `mesh(i)` gives normalised arrays."""
@@ -62,6 +75,10 @@ class ShapeDataset:
     skipped: list = field(default_factory=list)  # (source, reason), each reported once
     cache_dir: Path | None = None
     _meshes: dict = field(default_factory=dict, repr=False)
+    layout: str = ""  # where the items were looked for, e.g. "modelnet root R (R/<class>/train/*.off)"
+
+    def __post_init__(self):
+        self.cache_dir = None if self.cache_dir is None else Path(self.cache_dir)
 
     def __len__(self):
         return len(self.items)
@@ -71,6 +88,15 @@ class ShapeDataset:
 
     def class_counts(self):
         return np.bincount(self.labels(), minlength=len(self.classes))
+
+    def require_objects(self, which=None):
+        """self, or InputError when the split holds no usable object (`which`: what to call the
+        objects in the message; default "<split> objects")."""
+        if not len(self):
+            bad = f" ({len(self.skipped)} file(s) found, all unusable)" if self.skipped else ""
+            raise InputError(f"no {which or self.split + ' objects'} found in "
+                             f"{self.layout or self.name}{bad}")
+        return self
 
     def mesh(self, i):
         """(vertices (V, 3) float32 in [-0.5, 0.5]^3, faces (F, 3) int32) of item i."""
@@ -85,9 +111,9 @@ class ShapeDataset:
         stat = path.stat()
         key = hashlib.sha1(f"{path.resolve()}|{stat.st_size}|{stat.st_mtime_ns}".encode())
         cached = self.cache_dir / "meshes" / f"{key.hexdigest()}.npz"
-        if cached.exists():
-            with np.load(cached) as z:
-                return z["vertices"], z["faces"]
+        arrays = load_npz(cached, ("vertices", "faces"))
+        if arrays is not None:
+            return arrays
         verts, faces = load_mesh(path)
         save_npz_atomic(cached, vertices=verts, faces=faces)
         return verts, faces
@@ -121,11 +147,14 @@ class ShapeDataset:
 
 def check_split(split):
     if split not in SPLITS:
-        raise ValueError(f"split must be one of {SPLITS}, got {split!r}")
+        raise InputError(f"split must be one of {', '.join(SPLITS)}, got {split!r}")
 
 
 def check_root(root, layout):
-    root = Path(root) if root is not None else None
-    if root is None or not root.is_dir():
-        raise ValueError(f"{layout} dataset root {root} is not a directory")
+    if root is None or str(root) == "":
+        raise InputError(f"the {layout} dataset needs its root folder (--root DIR)")
+    root = Path(root)
+    if not root.is_dir():
+        raise InputError(f"{layout} dataset root {root}: "
+                         f"{'is not a directory' if root.exists() else 'no such directory'}")
     return root

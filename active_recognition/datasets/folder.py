@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from .base import ShapeDataset, check_root, check_split, in_split
 from ..meshes import SUFFIXES
+from ..validation import InputError
 
 
 def folder(root, split="train", cache_dir=None, test_fraction=0.2):
@@ -30,5 +31,8 @@ def folder(root, split="train", cache_dir=None, test_fraction=0.2):
                 if in_split(f"{c}/{p.name}", split, test_fraction):
                     items.append((p, label))
     if not classes:
-        raise ValueError(f"folder root {root} has no class folders")
-    return ShapeDataset("folder", classes, split, items, cache_dir=cache_dir)
+        raise InputError(f"folder root {root} has no class folders")
+    hint = ("; its <class>/train/ folders look like modelnet's: --name modelnet?"
+            if any((root / c / s).is_dir() for c in classes for s in ("train", "test")) else "")
+    layout = f"folder root {root} ({root}/<class>/*{{{','.join(SUFFIXES)}}}{hint})"
+    return ShapeDataset("folder", classes, split, items, cache_dir=cache_dir, layout=layout)

@@ -60,13 +60,14 @@ SPLITS = tuple(PER_CLASS)  # a generated benchmark also has the cross-style test
 def generated(name, classes, make, version, split="train", cache_dir=None, seed=0, per_class=None):
     """A generated benchmark as a ShapeDataset: `make(label, seed)` builds each shape; all meshes
     of a split are cached in one .npz under cache_dir/name."""
-    from .base import ShapeDataset, save_npz_atomic
+    from ..validation import InputError
+    from .base import load_npz, save_npz_atomic, ShapeDataset
 
     if split not in SPLITS:
-        raise ValueError(f"split of {name} must be one of {SPLITS}, got {split!r}")
+        raise InputError(f"split of {name} must be one of {SPLITS}, got {split!r}")
     per_class = PER_CLASS[split] if per_class is None else int(per_class)
     if per_class < 1:
-        raise ValueError(f"{name} per_class must be at least 1, got {per_class}")
+        raise InputError(f"{name} per_class must be at least 1, got {per_class}")
     specs = shape_seeds(seed, per_class, split, len(classes))
     items = [(f"{classes[label]}/{s}", label) for label, s in specs]
     ds = ShapeDataset(name, list(classes), split, items, cache_dir=cache_dir)
@@ -74,9 +75,10 @@ def generated(name, classes, make, version, split="train", cache_dir=None, seed=
     if cache_dir is not None:
         from pathlib import Path
         path = Path(cache_dir) / name / f"v{version}-s{seed}-{split}-{per_class}.npz"
-    if path is not None and path.exists():
-        with np.load(path) as z:
-            v, f, vo, fo = (z[k] for k in ("vertices", "faces", "vertex_offsets", "face_offsets"))
+    keys = ("vertices", "faces", "vertex_offsets", "face_offsets")
+    cached = None if path is None else load_npz(path, keys)
+    if cached is not None and len(cached[2]) == len(items) + 1:
+        v, f, vo, fo = cached
         for i in range(len(items)):
             ds._meshes[i] = (v[vo[i]:vo[i + 1]], f[fo[i]:fo[i + 1]])
         return ds

@@ -18,6 +18,7 @@ from __future__ import annotations
 import json
 
 from .base import ShapeDataset, check_root, check_split, in_split
+from ..validation import InputError
 
 
 def synset_names(root):
@@ -29,7 +30,7 @@ def synset_names(root):
         entries = json.loads(path.read_text())
         return {e["synsetId"]: e["name"].split(",")[0].strip() for e in entries}
     except (ValueError, KeyError, TypeError) as e:
-        raise ValueError(f"{path}: not a ShapeNet taxonomy ({e})") from None
+        raise InputError(f"{path}: not a ShapeNet taxonomy ({e})") from None
 
 
 def shapenet(root, split="train", cache_dir=None, test_fraction=0.2):
@@ -48,5 +49,6 @@ def shapenet(root, split="train", cache_dir=None, test_fraction=0.2):
             if in_split(f"{synset}/{m.parent.parent.name}", split, test_fraction):
                 items.append((m, label))
     if not classes:
-        raise ValueError(f"shapenet root {root} has no <synset>/<model>/models/model_normalized.obj")
-    return ShapeDataset("shapenet", classes, split, items, cache_dir=cache_dir)
+        raise InputError(f"shapenet root {root} has no <synset>/<model>/models/model_normalized.obj")
+    return ShapeDataset("shapenet", classes, split, items, cache_dir=cache_dir,
+                        layout=f"shapenet root {root}")

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from .parts import box, cushion, cylinder, legs4, Style
+from .parts import Style, box, cushion, cylinder, legs4
 from .parts import slab as panel
 from ..meshes import normalise
 

@@ -27,11 +27,12 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
-from active_recognition.checkpoint import shipped
+from active_recognition.checkpoint import load_model, shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
 from active_recognition.simulated_camera import sensor_config
+from active_recognition.validation import InputError
 
 
 class MultiThreadedExecutor(executors.MultiThreadedExecutor):
@@ -112,7 +113,12 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
     if given; returns the summary dict."""
     test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
     if not 1 <= objects <= len(test):
-        raise ValueError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")
+        raise InputError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")
+    checkpoint = checkpoint or str(shipped(dataset))
+    classes = load_model(checkpoint)[1]  # refused now if unfit, not inside the recognizer node
+    if classes != list(test.classes):
+        raise InputError(f"checkpoint {checkpoint}: its classes {classes} are not the {dataset} "
+                         f"dataset's {list(test.classes)}")
     sensor = [Parameter(k, value=v) for k, v in asdict(sensor_config(camera)).items()]
     order = np.random.default_rng(seed).permutation(len(test))[:objects]
     with ros_session(args) as (ctx, executor):
@@ -120,7 +126,7 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             Parameter("dataset", value=dataset), Parameter("index", value=int(order[0])),
             Parameter("seed", value=seed)])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("checkpoint", value=checkpoint or str(shipped(dataset))),
+            Parameter("checkpoint", value=checkpoint),
             Parameter("seed", value=seed), Parameter("planner", value=planner),
             Parameter("record", value=record)])
         client = DemoClient(context=ctx)

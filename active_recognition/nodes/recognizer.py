@@ -18,6 +18,7 @@ Any depth camera: each image is paired with the latest CameraInfo and with the c
 its stamp, and the core reprojects it into the model's own camera (reprojection.py).
 """
 import json
+import sys
 import time
 from collections import deque
 from dataclasses import replace
@@ -33,9 +34,10 @@ from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
 from active_recognition.episode import EpisodeConfig
-from active_recognition.nodes import declare_parameters, run_node
+from active_recognition.nodes import check_parameter, declare_parameters, run_node
 from active_recognition.nodes.recorder import Recorder
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.recognizer import ActiveRecognizer, NODE_PLANNERS, SensingConfig
+from active_recognition.validation import Check, InputError, SEED_MAX, checks
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
 INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
@@ -62,12 +64,17 @@ PARAMS = {  # name: (default, type, description)
                         "shutdown); empty = off"),
 }
 SENSING = ("object_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin")
+CHECKS = {**checks(EpisodeConfig), **checks(SensingConfig),
+          "checkpoint": Check(str), "planner": Check(str, choices=NODE_PLANNERS),
+          "seed": Check(int, lo=0, hi=SEED_MAX), "frame_id": Check(str, length=(1, None)),
+          "require_fresh_images": Check(bool), "pose_tolerance": Check(float, lo=0, hi=60)}
+RUNTIME = ("pose_tolerance",) + SENSING  # the rest are read once, at start
 
 
 class Recognizer(Node):
     def __init__(self, **kwargs):
         super().__init__("recognizer", **kwargs)
-        p = declare_parameters(self, PARAMS)
+        p = declare_parameters(self, PARAMS, CHECKS, RUNTIME)
         self.frame_id, self.fresh_only = p["frame_id"], p["require_fresh_images"]
         self.pose_tolerance = p["pose_tolerance"]
         self.sensing = SensingConfig(**{k: p[k] for k in SENSING})
@@ -114,15 +121,13 @@ class Recognizer(Node):
             self.get_logger().info(text)
 
     def on_parameters(self, params):
-        values = {p.name: p.value for p in params}
-        tolerance = values.get("pose_tolerance", self.pose_tolerance)
-        if not tolerance >= 0:
-            return SetParametersResult(successful=False, reason="pose_tolerance must be >= 0")
         try:
-            self.sensing = replace(self.sensing, **{k: v for k, v in values.items() if k in SENSING})
-        except (ValueError, TypeError) as e:
+            values = {p.name: check_parameter(CHECKS, p.name, p.value) for p in params}
+            sensing = replace(self.sensing, **{k: v for k, v in values.items() if k in SENSING})
+        except InputError as e:
             return SetParametersResult(successful=False, reason=str(e))
-        self.pose_tolerance = tolerance
+        self.sensing = sensing
+        self.pose_tolerance = values.get("pose_tolerance", self.pose_tolerance)
         return SetParametersResult(successful=True)
 
     def request_view(self):
@@ -241,8 +246,8 @@ class Recognizer(Node):
 
 
 def main(args=None):
-    run_node(Recognizer, args)
+    return run_node(Recognizer, args)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -33,6 +33,7 @@ from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float32MultiArray, String
 from visualization_msgs.msg import MarkerArray
 
+from active_recognition.validation import InputError
 from msg_adapters.definitions import message_definition
 
 RELIABLE = QoSProfile(depth=100)
@@ -69,14 +70,14 @@ def qos_metadata(qos):
 
 
 def check_path(path):
-    """The target as a Path, or a ValueError that says what is wrong with it."""
+    """The target as a Path, or an InputError that says what is wrong with it."""
     target = Path(path).expanduser()
     if target.suffix != ".mcap":
-        raise ValueError(f"record: {path!r} must be a file name ending in .mcap")
+        raise InputError(f"record: {path!r} must be a file name ending in .mcap")
     if not target.parent.is_dir():
-        raise ValueError(f"record: {path!r}: folder {str(target.parent)!r} does not exist")
+        raise InputError(f"record: {path!r}: folder {str(target.parent)!r} does not exist")
     if target.is_dir():
-        raise ValueError(f"record: {path!r} is a folder")
+        raise InputError(f"record: {path!r} is a folder")
     return target
 
 
@@ -88,7 +89,7 @@ class Recorder:
         try:
             from mcap.writer import Writer
         except ImportError:
-            raise ValueError("record: needs the mcap package (pip install mcap, or rosdep install "
+            raise InputError("record: needs the mcap package (pip install mcap, or rosdep install "
                              "with rosdep/active_recognition.yaml)") from None
         self.node, self.lock, self.counts = node, threading.Lock(), Counter()
         self.partial = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")

@@ -18,6 +18,7 @@ Publishes, with one stamp, the image, its CameraInfo and the pose the camera rea
 (`pose_error_deg`). The sensor parameters default to the model's own virtual camera;
 `demo --camera realsense` sets them to simulated_camera.PRESETS["realsense"].
 """
+import sys
 from dataclasses import fields
 
 from geometry_msgs.msg import PoseStamped
@@ -27,8 +28,11 @@ from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
-from active_recognition.nodes import declare_parameters, run_node
+from active_recognition.datasets import NAMES
+from active_recognition.datasets.base import SPLITS
+from active_recognition.nodes import check_parameter, declare_parameters, run_node
 from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
+from active_recognition.validation import Check, InputError, SEED_MAX, checks
 
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
 INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
@@ -59,13 +63,16 @@ PARAMS = {  # name: (default, type, description)
     **{f.name: (f.default, TYPES[type(f.default)], SENSOR_TEXT[f.name])
        for f in fields(SensorConfig)},
 }
-OBJECT = ("mesh", "dataset", "root", "split", "index")
+OBJECT = ("mesh", "dataset", "root", "split", "index")  # may change at run time
+CHECKS = {**checks(SensorConfig), "mesh": Check(str), "dataset": Check(str, choices=NAMES),
+          "root": Check(str), "split": Check(str, choices=SPLITS), "index": Check(int, lo=0),
+          "frame_id": Check(str, length=(1, None)), "seed": Check(int, lo=0, hi=SEED_MAX)}
 
 
 class SimulatedCameraNode(Node):
     def __init__(self, **kwargs):
         super().__init__("simulated_camera", **kwargs)
-        p = declare_parameters(self, PARAMS)
+        p = declare_parameters(self, PARAMS, CHECKS, OBJECT)
         sensor = SensorConfig(**{f.name: p[f.name] for f in fields(SensorConfig)})
         self.sim = SimulatedCamera(sensor, p["seed"])
         self.sim.load(**{k: p[k] for k in OBJECT})
@@ -79,13 +86,14 @@ class SimulatedCameraNode(Node):
                                f"{self.sim.description}")
 
     def on_parameters(self, params):
-        changes = {p.name: p.value for p in params if p.name in OBJECT}
-        if not changes:
-            return SetParametersResult(successful=True)
         source = {k: self.get_parameter(k).value for k in OBJECT}
         try:
+            changes = {p.name: check_parameter(CHECKS, p.name, p.value) for p in params
+                       if p.name in OBJECT}
+            if not changes:
+                return SetParametersResult(successful=True)
             self.sim.load(**{**source, **changes})
-        except (ValueError, OSError) as e:
+        except (InputError, OSError) as e:
             self.get_logger().error(f"cannot load object, keeping {self.sim.description}: {e}")
             return SetParametersResult(successful=False, reason=str(e))
         self.get_logger().info(f"now showing {self.sim.description}")
@@ -105,8 +113,8 @@ class SimulatedCameraNode(Node):
 
 
 def main(args=None):
-    run_node(SimulatedCameraNode, args)
+    return run_node(SimulatedCameraNode, args)
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
