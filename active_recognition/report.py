@@ -228,8 +228,9 @@ def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
 RESULTS_HEADER = """# Results on the procedural benchmark
 
 The planner tables below were measured with the previous generator (boxes and cylinders) and the
-previous procedural.pt, before issue #12's furniture-like shapes; the sections at the end
-("Old and new shipped model", camera robustness) are measured with the current ones.
+previous procedural.pt, before issue #12's furniture-like shapes; the headroom table and the
+sections at the end ("Old and new shipped model", camera robustness) are measured with the
+current ones.
 
 Written by `python benchmarks/planners.py` (the whole procedural test split, 500 objects, 3
 seeded initial views each of the 50, the same for every planner: 1,500 episodes). The models and
