@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from .meshes import normalise
+from .meshes import yawed
 
 MISS = 255.0
 
@@ -60,9 +60,7 @@ class Augment:
         size), and the lower corner of the crop box (its bottom raised by the floor cut)."""
         v = np.asarray(vertices, dtype=np.float64)
         if self.yaw:
-            a = rng.uniform(0, 2 * np.pi)
-            c, s = np.cos(a), np.sin(a)
-            v = normalise(v @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]))
+            v = yawed(v, rng.uniform(0, 2 * np.pi))
         if self.frame_error > 0:
             d = rng.standard_normal(3)
             off = rng.uniform(0, self.frame_error) * d / np.linalg.norm(d)
@@ -93,9 +91,11 @@ class Augment:
         drop = torch.rand(flat.shape, generator=generator) < rate
         d = flat.detach()
         jump = torch.zeros_like(drop)  # a depth edge: a neighbour more than 5 units away
-        jump[:, 1:, :] |= (d[:, 1:, :] - d[:, :-1, :]).abs() > 5
-        jump[:, :-1, :] |= (d[:, 1:, :] - d[:, :-1, :]).abs() > 5
-        jump[:, :, 1:] |= (d[:, :, 1:] - d[:, :, :-1]).abs() > 5
-        jump[:, :, :-1] |= (d[:, :, 1:] - d[:, :, :-1]).abs() > 5
+        rows = (d[:, 1:, :] - d[:, :-1, :]).abs() > 5  # between vertical neighbours
+        cols = (d[:, :, 1:] - d[:, :, :-1]).abs() > 5  # between horizontal neighbours
+        jump[:, 1:, :] |= rows
+        jump[:, :-1, :] |= rows
+        jump[:, :, 1:] |= cols
+        jump[:, :, :-1] |= cols
         drop |= jump & (torch.rand(flat.shape, generator=generator) < 2 * rate)
         return torch.where(drop.to(depth.device), torch.full_like(flat, MISS), flat).reshape(shape)

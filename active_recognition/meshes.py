@@ -46,6 +46,14 @@ def normalise(vertices):
     return (v - (lo + hi) / 2) / size
 
 
+def yawed(vertices, yaw):
+    """Vertices turned by `yaw` radians about z, their box re-fitted (`normalise`): the object
+    in a frame of unknown heading, as a detector's axis-aligned box gives it."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    turn = np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]])
+    return normalise(np.asarray(vertices, dtype=np.float64) @ turn)
+
+
 def read_off(path):
     """Parse OFF text, including the fused header of ModelNet ('OFF3514 3546 0') and polygons."""
     tokens = re.sub(r"#[^\n]*", " ", Path(path).read_text(errors="strict")).split()

@@ -29,7 +29,7 @@ import numpy as np
 from . import geometry
 from .datasets import default_cache_dir, open_dataset
 from .depth_layer import CameraConfig, DepthCamera
-from .meshes import load_mesh, normalise
+from .meshes import load_mesh, yawed
 from .validation import InputError, option, validate
 
 NOISE = ("none", "kinect")
@@ -141,8 +141,7 @@ class SimulatedCamera:
         verts, faces, description = load_object(**source)
         verts = np.asarray(verts, np.float64)
         if self.yaw:
-            c, s = np.cos(self.yaw), np.sin(self.yaw)
-            verts = normalise(verts @ np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]]))
+            verts = yawed(verts, self.yaw)
         verts = verts * self.sensor.object_size + self.offset
         config = CameraConfig(self.k.height, self.k.width)
         self.camera = DepthCamera(verts, faces, config, intrinsics=self.k)

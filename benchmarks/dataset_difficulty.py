@@ -84,9 +84,7 @@ def main():
     feats = candidate_features(net, test, idx, candidates)                       # (N, 50, F)
     with torch.no_grad():
         acc1 = accuracy(net.classify(feats), labels[:, None])                   # every single view
-        rand = torch.stack([net.view_features(torch.from_numpy(c.render(geometry.random_views(rng, 3)))[None])[0]
-                            for c in test.cameras(idx)])
-        acc3_random = accuracy(net.classify(rand.amax(1)), labels)
+        _, acc3_random = random_views_accuracy(net, test, idx, rng)
         nine = candidate_features(net, test, idx, geometry.fibonacci_views(9))
         acc9 = accuracy(net.classify(nine.amax(1)), labels)
         fixed, train_acc = fixed_path(net, train, seed=args.seed)

@@ -80,6 +80,8 @@ def main():
         tmp.close()
         old_path = tmp.name
     models = {"old": checkpoint.load_model(old_path)[0], "new": checkpoint.load_model()[0]}
+    if args.old_model is None:
+        Path(old_path).unlink()  # the copy from git, read
     for item in args.model:
         name, sep, path = item.partition("=")
         if not sep or not name:

@@ -16,7 +16,7 @@
 
 Slabs with sharp, bevelled or rounded edges (shapely outlines, extruded), cushions (squared
 spheres), legs of several kinds (square, round, tapered, turned: revolved profiles; splayed),
-curved shells (a buffered arc, extruded) and rings (tub walls). `Style` carries what varies
+curved shells (a buffered arc, extruded), plates and discs. `Style` carries what varies
 between pieces of one class regardless of its structure: edges, legs, mesh resolution. Units are
 metres-like; the shape is normalised into the unit cube afterwards. Deterministic in the rng.
 """
@@ -164,19 +164,6 @@ def shell(center, width, height, thick, bulge, axis=2, points=9):
     x = np.linspace(-width / 2, width / 2, points)
     arc = LineString(np.column_stack([x, bulge * (1 - (2 * x / width) ** 2)]))
     return extrude(arc.buffer(thick / 2, cap_style="flat"), height, center, axis)
-
-
-def ring(center, size, wall, height, style: Style, oval=False):
-    """Tub walls: an oval or rounded-rectangle outline minus its inset, extruded along z."""
-    w, d = size
-    if oval:
-        outer = affinity.scale(Point(0, 0).buffer(0.5, quad_segs=style.quad_segs + 2), w, d)
-    else:
-        r = 0.25 * min(w, d) if style.edge != "sharp" else 0.0
-        outer = outline(-w / 2 + r, -d / 2 + r, w / 2 - r, d / 2 - r).buffer(
-            r, quad_segs=style.quad_segs + 1) if r else outline(-w / 2, -d / 2, w / 2, d / 2)
-    inner = outer.buffer(-wall)
-    return [extrude(outer.difference(inner), height, center)], outer
 
 
 def plate(center, polygon, thick):
