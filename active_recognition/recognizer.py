@@ -33,9 +33,10 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .policies import PLANNERS, make_planner
-from .reprojection import auto_standoff, reproject
+from .reprojection import auto_standoff, reproject, seen_centre
 from .validation import InputError, option, validate
 
+TRUSTED = 0.05  # an object frame this close to the centre seen (x object_size) is left alone
 NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
 
 
@@ -57,6 +58,9 @@ class SensingConfig:
     min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
     max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
     box_margin: float = option(0.1, lo=0, hi=1)  # keep points this far (x object_size) outside
+    # move the object's centre, at the first view, to the middle of what it sees across the line
+    # of sight (a detector's centre is off); at most this far (x object_size); 0 = trust the frame
+    recentre: float = option(0.25, lo=0, hi=1)
 
     def __post_init__(self):
         validate(self)
@@ -109,6 +113,7 @@ class ActiveRecognizer:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
         self.episode.reset(torch.tensor(view, dtype=torch.float32))
         self.empty_views, self.no_object = 0, False
+        self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
         return tuple(float(v) for v in self.episode.view[0])
 
     def standoff(self, k: geometry.Intrinsics | None = None):
@@ -122,8 +127,8 @@ class ActiveRecognizer:
 
     def requested_pose(self, k=None):
         """(position (3,) metres, optical rotation (3, 3)) of the view asked for next."""
-        return (geometry.camera_position(*self.view, self.standoff(k)),
-                geometry.optical_rotation(*self.view))
+        return (geometry.camera_position(*self.view, self.standoff(k))
+                + self.centre * self.sensing.object_size, geometry.optical_rotation(*self.view))
 
     @property
     def view(self):
@@ -135,8 +140,9 @@ class ActiveRecognizer:
 
     def network_input(self, metres, k=None, position=None, rotation=None):
         """A metric depth image (H, W), NaN = no return, with its camera K and pose in the object
-        frame -> the Reprojection into the model's camera. Without K: the model's own camera at
-        this resolution; without a pose: the view asked for."""
+        frame -> (the Reprojection into the model's camera about the object's centre as found so
+        far, (K, position, rotation) as used). Without K: the model's own camera at this
+        resolution; without a pose: the view asked for."""
         metres = np.asarray(metres, dtype=np.float32)
         if metres.ndim != 2:
             raise InputError(f"depth must be an (H, W) image, got shape {metres.shape}")
@@ -144,14 +150,36 @@ class ActiveRecognizer:
             position, rotation = self.requested_pose(k)
         if k is None:
             k = geometry.Intrinsics.from_fov(metres.shape[1], metres.shape[0], self.camera.fov_rad)
-        return reproject(metres, k, position, rotation, self.camera, self.sensing.object_size,
-                         self.sensing.box_margin)
+        size = self.sensing.object_size
+        return reproject(metres, k, np.asarray(position) - self.centre * size, rotation, self.camera,
+                         size, self.sensing.box_margin), (k, position, rotation)
+
+    def recentred(self, seen, metres, camera):
+        """The first view's Reprojection again, about the centre of the box of what it saw
+        (seen_centre), as a detector's centre is off: the first TRUSTED of the move ignored (the
+        model is trained for small errors, and a view's own estimate errs by about that much),
+        the move capped at `recentre`. Twice, as the first box may have cut the object off; not
+        where the image itself cut the object off."""
+        k, position, rotation = camera
+        for _ in range(2):
+            if len(seen.points) < 8 or seen.cut:
+                break
+            here = np.asarray(position) / self.sensing.object_size - self.centre
+            found = self.centre + seen_centre(seen.points, here)
+            reach = np.linalg.norm(found)
+            move = min(max(reach - TRUSTED, 0.0), self.sensing.recentre)
+            self.centre = found * (move / reach if reach > 0 else 0.0)
+            seen, _ = self.network_input(metres, k, position, rotation)
+        return seen
 
     def observe(self, metres, k=None, position=None, rotation=None) -> Observation:
         """One episode step on a metric depth image (see network_input for the arguments)."""
         if self.done:
             raise RuntimeError("the episode has ended; reset() for a new object")
-        seen = self.network_input(metres, k, position, rotation)
+        seen, camera = self.network_input(metres, k, position, rotation)
+        if self.episode.steps == 0 and self.sensing.recentre > 0 and \
+                seen.object_fraction >= self.sensing.min_object_fraction:
+            seen = self.recentred(seen, metres, camera)
         if seen.object_fraction < self.sensing.min_object_fraction:
             self.empty_views += 1
             self.no_object = self.empty_views >= self.sensing.max_empty_views

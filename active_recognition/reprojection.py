@@ -69,6 +69,21 @@ def support_height(points, box_margin=0.1, bin_width=0.02):
     return height, max(bin_width, 4 * spread)
 
 
+def seen_centre(points, position, oblique=0.8):
+    """The centre of the object's box, from the points one view saw of it, along the object's
+    axes that the view sees the whole extent of.
+
+    From a view off an axis the object's extremes along that axis lie on its silhouette or face
+    the camera, so the middle of the seen points' extent is the box's centre along it. Along an
+    axis within acos(`oblique`) of the line of sight the far side is hidden: that component stays
+    0. points (N, 3) and the camera position (3,), normalised object frame; returns (3,).
+    """
+    d = np.asarray(position, dtype=np.float64)
+    d = np.abs(d) / np.linalg.norm(d)
+    points = np.asarray(points, dtype=np.float64)
+    return np.where(d < oblique, (points.min(0) + points.max(0)) / 2, 0.0)
+
+
 def fill_holes(z, fillable=None, iterations=4, agree=0.05):
     """Fill missing pixels (inf) that lie inside a surface: between two opposite neighbours whose
     depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
@@ -149,6 +164,8 @@ class Reprojection:
     view: tuple             # (theta, phi) of the actual camera position
     object_fraction: float  # share of the model's pixels that show the object
     support: tuple | None   # (height, thickness) of the support surface removed, normalised
+    points: np.ndarray      # (N, 3) the object's points kept, in the normalised object frame
+    cut: bool               # the object's points reach the image's edge (it may be cut off)
 
 
 def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera: CameraConfig,
@@ -198,4 +215,6 @@ def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera
     found = float(np.isfinite(out).mean())
     if fill:  # pixels no ray passed through: a camera farther off than the model's
         out = fill_holes(out, samples.reshape(out.shape) == 0)
-    return Reprojection(normalise_depth(out, camera), (theta, phi), found, support)
+    kept = keep.reshape(z.shape)
+    cut = bool(kept[:, [0, -1]].any() or kept[[0, -1]].any())
+    return Reprojection(normalise_depth(out, camera), (theta, phi), found, support, pts[keep], cut)

@@ -17,6 +17,7 @@ with one classifier, so that planners are compared by the views they choose, not
 recurrent classifiers. Trained on random views of the training split, neutral to every planner."""
 from __future__ import annotations
 
+import hashlib
 import sys
 
 import numpy as np
@@ -71,18 +72,34 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
     return net.eval()
 
 
+def fingerprint(shapes):
+    """What a shared classifier was trained on: the camera (size, radius, field of view) and the
+    training shapes themselves (count, and three meshes' vertices), so a cached one is not used
+    after a generator or the model's camera changed."""
+    n, c = len(shapes), shapes.camera
+    h = hashlib.sha256(f"{n} {c.height}x{c.width} r{c.radius!r} fov{c.fov_rad!r}".encode())
+    for i in sorted({0, n // 2, n - 1}):
+        h.update(np.ascontiguousarray(shapes.ds.mesh(i)[0], dtype=np.float32).tobytes())
+    return h.hexdigest()
+
+
 def load_or_train(path, shapes, classes, **kwargs):
-    """The shared classifier at `path`, trained and saved there first if missing."""
+    """The shared classifier at `path`, trained and saved there first if missing, or if it was
+    trained on other shapes or through another camera (`fingerprint`)."""
+    key = fingerprint(shapes)
     if path.exists():
         try:
             ckpt = checkpoint.read_any(path)
-            if ckpt.get("classes") == list(classes) and checkpoint.nonfinite(ckpt["model"]) is None:
+            if ckpt.get("classes") == list(classes) and checkpoint.nonfinite(ckpt["model"]) is None \
+                    and ckpt.get("trained_on") == key:
                 net = MultiViewClassifier(len(classes))
                 net.load_state_dict(ckpt["model"])
                 return net.eval()
+            print(f"{path} was trained on other shapes or another camera: training it again",
+                  file=sys.stderr)
         except (checkpoint.CheckpointError, RuntimeError, TypeError) as e:  # a damaged cache
             print(f"{path} is not usable ({str(e)[:200]}): training it again", file=sys.stderr)
     net = train_shared(shapes, len(classes), **kwargs)
     checkpoint.save(path, {"model": net.state_dict(), "model_args": {}, "classes": list(classes),
-                           "kind": "shared_multiview"})
+                           "kind": "shared_multiview", "trained_on": key})
     return net

@@ -87,16 +87,17 @@ def main():
         if not sep or not name:
             ap.error(f"--model {item!r}: expected NAME=FILE")
         models[name] = checkpoint.load_model(path)[0]
-    cam = CameraConfig(64, 64)
-    splits = {"old test": Shapes(old_test_split(OLD), cam)}
+    data = {"old test": old_test_split(OLD)}
     for s in ("test", "cross"):
-        splits[f"new {s}"] = Shapes(open_dataset("procedural", split=s, cache_dir=default_cache_dir()), cam)
+        data[f"new {s}"] = open_dataset("procedural", split=s, cache_dir=default_cache_dir())
     result = {}
-    for split, shapes in splits.items():
+    for split, ds in data.items():
         rng = np.random.default_rng(0)
-        idx = np.sort(rng.permutation(len(shapes))[:args.objects])
+        idx = np.sort(rng.permutation(len(ds))[:args.objects])
         views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
-        for name, model in models.items():
+        for name, model in models.items():  # each through its own camera (radius, image size)
+            size = model.config.image_size
+            shapes = Shapes(ds, CameraConfig(size, size, radius=model.config.radius))
             for planner in ("learned", "straight"):
                 acc = accuracy(model, shapes, idx, views, planner)
                 result[f"{name} model, {split}, {planner}"] = round(acc, 4)

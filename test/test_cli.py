@@ -179,6 +179,17 @@ def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, t
     summary = json.loads((out / "summary.json").read_text())
     assert summary["acc"] == {"random": {}} and "stderr_3" not in summary  # no 3rd view to score
     assert "| random | - | - | - |" in (out / "report.md").read_text()
+    judge = checkpoint.read_any(out / "shared_classifier.pt")
+    args = ["evaluate", "--dataset", "folder", "--root", tiny_tree, "--checkpoint",
+            trained / "final.pt", "--planners", "random", "--steps", 2, "--out", out]
+    status, _, err = run(args, capsys)
+    assert status == 0 and "training it again" not in err  # the same shapes: the cache is used
+    judge["trained_on"] = "0" * 64  # as if the shapes or the model's camera had changed
+    judge.pop("format")
+    checkpoint.save(out / "shared_classifier.pt", judge)
+    status, _, err = run(args, capsys)
+    assert status == 0 and "trained on other shapes or another camera: training it again" in err
+    assert checkpoint.read_any(out / "shared_classifier.pt")["trained_on"] != "0" * 64
 
 
 def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, tiny_tree,

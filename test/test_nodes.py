@@ -236,7 +236,8 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
 
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("pose_tolerance", value=0.2), Parameter("max_views", value=2)])
+            Parameter("pose_tolerance", value=0.2), Parameter("max_views", value=2),
+            Parameter("recentre", value=0.0)])  # the view about the frame's own centre
         camera = FakeCamera(ctx, lambda req: sim.capture(*where(req))[0],
                             pose=lambda req: ma.position_to_pose(*where(req)),
                             pose_delay=0.05, offset=0.03)  # stamped 30 ms off, sent 50 ms late

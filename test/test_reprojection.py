@@ -20,8 +20,9 @@ import pytest
 
 from active_recognition import geometry
 from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.reprojection import auto_standoff, fill_holes, reproject, support_height
+from active_recognition.recognizer import ActiveRecognizer, SensingConfig, TRUSTED
+from active_recognition.reprojection import (auto_standoff, fill_holes, reproject, seen_centre,
+                                             support_height)
 from active_recognition.simulated_camera import (SensorConfig, SimulatedCamera, kinect_sigma,
                                                  sensor_config)
 
@@ -212,7 +213,72 @@ def test_the_episode_goes_on_from_the_view_actually_taken(chair):
     sim = simulated(chair, width=64, height=64, pose_error_deg=20.0)
     z, pos, rot = sim.capture(*core.requested_pose(sim.k))
     obs = core.observe(z, sim.k, pos, rot)
-    actual = geometry.view_from_position(pos)[1:]
+    actual = geometry.view_from_position(pos - core.centre)[1:]  # around the centre it found
     assert obs.view == pytest.approx(actual) and core.views_taken()[0] == pytest.approx(actual)
     result = obs.result()
     assert set(result) == {"status", "label", "probability", "entropy", "views"}
+
+
+@pytest.mark.parametrize("view", [(0.9, 0.6), (1.3, 2.2), (2.1, -1.0), (0.02, 0.5), (1.5708, 0.0)])
+def test_seen_centre_is_the_box_centre_along_the_axes_a_view_sees_across(view):
+    c = np.array([0.08, -0.06, 0.05])
+    mesh, config = box((-0.3, -0.2, -0.4), (0.3, 0.2, 0.4)), CameraConfig(128, 128, radius=1.5)
+    cam = DepthCamera(mesh.vertices + c, mesh.faces, config)
+    pos = geometry.camera_position(*view, 1.5)
+    seen = reproject(cam.metric(view)[0], config.intrinsics(), pos, geometry.optical_rotation(*view),
+                     CameraConfig(radius=1.5))
+    d = np.abs(pos) / 1.5
+    told = d < 0.8  # the axes within 37 degrees of the line of sight are not told
+    assert told.sum() == (2 if view[0] < 0.1 or view == (1.5708, 0.0) else 3)
+    np.testing.assert_allclose(seen_centre(seen.points, pos), np.where(told, c, 0.0), atol=0.01)
+
+
+def offset_chair(chair, offset, **sensor):
+    sim = simulated(chair, **sensor)
+    sim.camera = DepthCamera(chair[0] + np.float32(offset), chair[1], CameraConfig(sim.k.height, sim.k.width),
+                             intrinsics=sim.k)
+    return sim
+
+
+def look(core, sim):
+    z, pos, rot = sim.capture(*core.requested_pose(sim.k))
+    return core.observe(z, sim.k, pos, rot)
+
+
+def test_the_recognizer_recentres_a_wrong_object_frame_once_at_the_first_view(chair):
+    offset = np.array([0.12, -0.1, 0.06])
+    assert (np.abs(geometry.camera_position(*VIEW)) < 0.8).all()  # a view that tells every axis
+    sim = offset_chair(chair, offset, width=160, height=120, fov=70.0)
+    core = ActiveRecognizer(planner="straight")
+    core.reset(view=VIEW)
+    look(core, sim)
+    reach = np.linalg.norm(offset)  # the first TRUSTED of it is left alone
+    np.testing.assert_allclose(core.centre, offset * (reach - TRUSTED) / reach, atol=0.02)
+    found = core.centre.copy()
+    pos, rot = core.requested_pose(sim.k)
+    assert np.linalg.norm(pos - found) == pytest.approx(auto_standoff(sim.k))  # around the new centre
+    assert rot[:, 2] @ (found - pos) == pytest.approx(auto_standoff(sim.k))    # looking at it
+    look(core, sim)
+    np.testing.assert_array_equal(core.centre, found)  # once: later views keep the frame
+    core.reset(view=VIEW)
+    np.testing.assert_array_equal(core.centre, 0.0)  # a new object starts from its given frame
+    still = ActiveRecognizer(planner="straight", sensing=SensingConfig(recentre=0.0))
+    still.reset(view=VIEW)
+    look(still, sim)
+    np.testing.assert_array_equal(still.centre, 0.0)
+    capped = ActiveRecognizer(planner="straight", sensing=SensingConfig(recentre=0.05))
+    capped.reset(view=VIEW)
+    look(capped, sim)
+    assert np.linalg.norm(capped.centre) == pytest.approx(0.05)
+    near = ActiveRecognizer(planner="straight")  # within TRUSTED of the centre: left alone
+    near.reset(view=VIEW)
+    look(near, offset_chair(chair, offset * 0.5 * TRUSTED / reach, width=160, height=120, fov=70.0))
+    np.testing.assert_array_equal(near.centre, 0.0)
+    close = ActiveRecognizer(planner="straight", sensing=SensingConfig(standoff=0.8))
+    close.reset(view=VIEW)  # so close that the image cuts the object off: its extent is unknown
+    z, pos, rot = sim.capture(*close.requested_pose(sim.k))
+    assert close.network_input(z, sim.k, pos, rot)[0].cut
+    close.observe(z, sim.k, pos, rot)
+    np.testing.assert_array_equal(close.centre, 0.0)
+    with pytest.raises(ValueError, match="recentre"):
+        SensingConfig(recentre=-0.1)

@@ -32,8 +32,10 @@ README = Path(__file__).resolve().parents[1] / "README.md"
 
 
 def episodes(n, seed, dataset="procedural"):
+    """n seeded test objects and initial views, seen through the dataset's shipped model's camera."""
+    config = checkpoint.load_model(checkpoint.shipped(dataset))[0].config
     test = Shapes(open_dataset(dataset, split="test", cache_dir=default_cache_dir()),
-                  CameraConfig(64, 64))
+                  CameraConfig(config.image_size, config.image_size, radius=config.radius))
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(test))[:n])
     return test, idx, geometry.fibonacci_views(50)[rng.integers(0, 50, n)]
