@@ -58,8 +58,9 @@ class SensingConfig:
     min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
     max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
     box_margin: float = option(0.1, lo=0, hi=1)  # keep points this far (x object_size) outside
-    # move the object's centre, at the first view, to the middle of what it sees across the line
-    # of sight (a detector's centre is off); at most this far (x object_size); 0 = trust the frame
+    # at the first view, move the object's centre toward the centre of the box of what it sees
+    # (along the axes it sees whole; the first TRUSTED ignored), as a detector's centre is off:
+    # at most this far (x object_size); 0 = trust the frame
     recentre: float = option(0.25, lo=0, hi=1)
 
     def __post_init__(self):
@@ -138,11 +139,10 @@ class ActiveRecognizer:
     def done(self):
         return self.no_object or bool(self.episode.done[0])
 
-    def network_input(self, metres, k=None, position=None, rotation=None):
+    def shot(self, metres, k=None, position=None, rotation=None):
         """A metric depth image (H, W), NaN = no return, with its camera K and pose in the object
-        frame -> (the Reprojection into the model's camera about the object's centre as found so
-        far, (K, position, rotation) as used). Without K: the model's own camera at this
-        resolution; without a pose: the view asked for."""
+        frame, checked and completed: without K, the model's own camera at this resolution;
+        without a pose, the view asked for. -> (metres, K, position, rotation)."""
         metres = np.asarray(metres, dtype=np.float32)
         if metres.ndim != 2:
             raise InputError(f"depth must be an (H, W) image, got shape {metres.shape}")
@@ -150,36 +150,45 @@ class ActiveRecognizer:
             position, rotation = self.requested_pose(k)
         if k is None:
             k = geometry.Intrinsics.from_fov(metres.shape[1], metres.shape[0], self.camera.fov_rad)
-        size = self.sensing.object_size
-        return reproject(metres, k, np.asarray(position) - self.centre * size, rotation, self.camera,
-                         size, self.sensing.box_margin), (k, position, rotation)
+        return metres, k, np.asarray(position), rotation
 
-    def recentred(self, seen, metres, camera):
+    def network_input(self, metres, k=None, position=None, rotation=None):
+        """The Reprojection of a depth image (see `shot` for the arguments) into the model's
+        camera, about the object's centre as found so far."""
+        return self.reprojected(self.shot(metres, k, position, rotation))
+
+    def reprojected(self, shot):
+        metres, k, position, rotation = shot
+        size = self.sensing.object_size
+        return reproject(metres, k, position - self.centre * size, rotation, self.camera, size,
+                         self.sensing.box_margin)
+
+    def recentred(self, seen, shot):
         """The first view's Reprojection again, about the centre of the box of what it saw
         (seen_centre), as a detector's centre is off: the first TRUSTED of the move ignored (the
         model is trained for small errors, and a view's own estimate errs by about that much),
         the move capped at `recentre`. Twice, as the first box may have cut the object off; not
         where the image itself cut the object off."""
-        k, position, rotation = camera
         for _ in range(2):
             if len(seen.points) < 8 or seen.cut:
                 break
-            here = np.asarray(position) / self.sensing.object_size - self.centre
+            here = shot[2] / self.sensing.object_size - self.centre
             found = self.centre + seen_centre(seen.points, here)
             reach = np.linalg.norm(found)
             move = min(max(reach - TRUSTED, 0.0), self.sensing.recentre)
             self.centre = found * (move / reach if reach > 0 else 0.0)
-            seen, _ = self.network_input(metres, k, position, rotation)
+            seen = self.reprojected(shot)
         return seen
 
     def observe(self, metres, k=None, position=None, rotation=None) -> Observation:
-        """One episode step on a metric depth image (see network_input for the arguments)."""
+        """One episode step on a metric depth image (see `shot` for the arguments)."""
         if self.done:
             raise RuntimeError("the episode has ended; reset() for a new object")
-        seen, camera = self.network_input(metres, k, position, rotation)
+        shot = self.shot(metres, k, position, rotation)
+        seen = self.reprojected(shot)
         if self.episode.steps == 0 and self.sensing.recentre > 0 and \
                 seen.object_fraction >= self.sensing.min_object_fraction:
-            seen = self.recentred(seen, metres, camera)
+            seen = self.recentred(seen, shot)
         if seen.object_fraction < self.sensing.min_object_fraction:
             self.empty_views += 1
             self.no_object = self.empty_views >= self.sensing.max_empty_views

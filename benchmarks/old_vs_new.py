@@ -95,9 +95,12 @@ def main():
         rng = np.random.default_rng(0)
         idx = np.sort(rng.permutation(len(ds))[:args.objects])
         views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
-        for name, model in models.items():  # each through its own camera (radius, image size)
-            size = model.config.image_size
-            shapes = Shapes(ds, CameraConfig(size, size, radius=model.config.radius))
+        seen = {}  # each model through its own camera; models with the same camera share one
+        for name, model in models.items():
+            size, radius = model.config.image_size, model.config.radius
+            if (size, radius) not in seen:
+                seen[size, radius] = Shapes(ds, CameraConfig(size, size, radius=radius))
+            shapes = seen[size, radius]
             for planner in ("learned", "straight"):
                 acc = accuracy(model, shapes, idx, views, planner)
                 result[f"{name} model, {split}, {planner}"] = round(acc, 4)

@@ -233,13 +233,6 @@ def test_seen_centre_is_the_box_centre_along_the_axes_a_view_sees_across(view):
     np.testing.assert_allclose(seen_centre(seen.points, pos), np.where(told, c, 0.0), atol=0.01)
 
 
-def offset_chair(chair, offset, **sensor):
-    sim = simulated(chair, **sensor)
-    sim.camera = DepthCamera(chair[0] + np.float32(offset), chair[1], CameraConfig(sim.k.height, sim.k.width),
-                             intrinsics=sim.k)
-    return sim
-
-
 def look(core, sim):
     z, pos, rot = sim.capture(*core.requested_pose(sim.k))
     return core.observe(z, sim.k, pos, rot)
@@ -248,7 +241,7 @@ def look(core, sim):
 def test_the_recognizer_recentres_a_wrong_object_frame_once_at_the_first_view(chair):
     offset = np.array([0.12, -0.1, 0.06])
     assert (np.abs(geometry.camera_position(*VIEW)) < 0.8).all()  # a view that tells every axis
-    sim = offset_chair(chair, offset, width=160, height=120, fov=70.0)
+    sim = simulated((chair[0] + np.float32(offset), chair[1]), width=160, height=120, fov=70.0)
     core = ActiveRecognizer(planner="straight")
     core.reset(view=VIEW)
     look(core, sim)
@@ -272,12 +265,13 @@ def test_the_recognizer_recentres_a_wrong_object_frame_once_at_the_first_view(ch
     assert np.linalg.norm(capped.centre) == pytest.approx(0.05)
     near = ActiveRecognizer(planner="straight")  # within TRUSTED of the centre: left alone
     near.reset(view=VIEW)
-    look(near, offset_chair(chair, offset * 0.5 * TRUSTED / reach, width=160, height=120, fov=70.0))
+    look(near, simulated((chair[0] + np.float32(offset * 0.5 * TRUSTED / reach), chair[1]), width=160,
+                         height=120, fov=70.0))
     np.testing.assert_array_equal(near.centre, 0.0)
     close = ActiveRecognizer(planner="straight", sensing=SensingConfig(standoff=0.8))
     close.reset(view=VIEW)  # so close that the image cuts the object off: its extent is unknown
     z, pos, rot = sim.capture(*close.requested_pose(sim.k))
-    assert close.network_input(z, sim.k, pos, rot)[0].cut
+    assert close.network_input(z, sim.k, pos, rot).cut
     close.observe(z, sim.k, pos, rot)
     np.testing.assert_array_equal(close.centre, 0.0)
     with pytest.raises(ValueError, match="recentre"):

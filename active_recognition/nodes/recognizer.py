@@ -60,9 +60,9 @@ PARAMS = {  # name: (default, type, description)
                                         "pixels) are not classified"),
     "max_empty_views": (3, INT, "this many empty images in a row end the episode: no_object"),
     "box_margin": (0.1, DBL, "keep points this far (x object_size) outside the object's box"),
-    "recentre": (0.25, DBL, "at an object's first view, move its centre to the middle of what is "
-                            "seen across the line of sight, at most this far (x object_size); "
-                            "0 = trust the object frame"),
+    "recentre": (0.25, DBL, "at an object's first view, move its centre toward the centre of the "
+                            "box of what is seen (the first 5 % ignored), at most this far "
+                            "(x object_size); 0 = trust the object frame"),
     "record": ("", STR, "an .mcap file to record every topic of the loop to (from start to "
                         "shutdown); empty = off"),
 }
