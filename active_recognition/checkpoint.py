@@ -18,6 +18,7 @@
 """
 from __future__ import annotations
 
+import math
 import os
 import pickle
 import zipfile
@@ -145,3 +146,18 @@ def load_model(path=None, expect_classes=None):
     if expect_classes is not None and list(expect_classes) != list(ckpt["classes"]):
         raise CheckpointError(path, f"classes {ckpt['classes']} differ from {list(expect_classes)}")
     return model.eval(), list(ckpt["classes"]), ckpt
+
+
+def stop_if_diverged(model, where, ckpt_path, saved, loss=None):
+    """InputError when `loss` (if given), else any weight, is not finite: training has diverged.
+    The message says where and which checkpoint is the last good one (none is overwritten)."""
+    if loss is not None:
+        bad = None if math.isfinite(loss) else f"the loss became {loss}"
+    else:
+        name = nonfinite(model.state_dict())
+        bad = None if name is None else f"weight {name} became non-finite"
+    if bad is None:
+        return
+    last = (f"the last good checkpoint is {ckpt_path} (step {saved})" if saved is not None else
+            "no checkpoint had been written yet")
+    raise InputError(f"training stopped at {where}: {bad} (is a learning rate too high?); {last}")

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import sys
 
 from .validation import Check, InputError, SEED_MAX, arg, arg_of, output_dir, output_file
@@ -26,27 +25,13 @@ SEED = arg(Check(int, lo=0, hi=SEED_MAX))
 
 
 def cmd_render(args):
-    import numpy as np
-
-    from . import geometry
-    from .depth_layer import CameraConfig, DepthCamera
-    from .meshes import load_mesh
-    from .visualize import depth_grid
+    from .visualize import render_mesh
 
     output_file(args.out, "--out", ".png")
-    verts, faces = load_mesh(args.mesh)
-    cfg = CameraConfig(height=args.size, width=args.size, radius=args.radius,
-                       fov=None if args.fov is None else math.radians(args.fov))
-    cam = DepthCamera(verts, faces, cfg)
-    if args.views:
-        views = geometry.fibonacci_views(args.views)
-    else:
-        views = np.array([[args.theta, args.phi]])
-    depth = cam.render(views)
-    titles = [f"({t:.2f}, {p:.2f})" for t, p in views]
-    depth_grid(depth, args.out, titles=titles)
-    hit = (depth < 255).mean()
-    print(f"wrote {args.out}: {len(views)} view(s) {args.size}x{args.size}, "
+    fov = None if args.fov is None else math.radians(args.fov)
+    n, hit = render_mesh(args.mesh, args.out, args.views, args.theta, args.phi, args.size,
+                         args.radius, fov)
+    print(f"wrote {args.out}: {n} view(s) {args.size}x{args.size}, "
           f"{100 * hit:.1f}% of pixels hit the mesh")
 
 
@@ -70,74 +55,19 @@ def add_render(sub):
 
 
 def cmd_dataset(args):
-    from .datasets import default_cache_dir, open_dataset
+    from .datasets import default_cache_dir, describe
 
     if args.contact_sheet is not None:
         output_file(args.contact_sheet, "--contact-sheet", ".png")
     cache = None if args.no_cache else output_dir(
         default_cache_dir() if args.cache_dir is None else args.cache_dir,
         "--cache-dir" if args.cache_dir is not None else "cache folder (ACTIVE_RECOGNITION_CACHE)")
-    splits = {s: open_dataset(args.name, args.root, s, cache_dir=cache) for s in ("train", "test")}
-    classes = splits["train"].classes
-    width = max(len(c) for c in classes + ["class"])
-    print(f"{args.name}: {len(classes)} classes")
-    print(f"{'class':<{width}}  {'train':>6}  {'test':>6}")
-    counts = {s: ds.class_counts() for s, ds in splits.items()}
-    for i, c in enumerate(classes):
-        print(f"{c:<{width}}  {counts['train'][i]:>6}  {counts['test'][i]:>6}")
-    print(f"{'total':<{width}}  {len(splits['train']):>6}  {len(splits['test']):>6}")
-    skipped = splits["train"].skipped + splits["test"].skipped
-    print(f"skipped {len(skipped)} file(s)")
-    for path, reason in skipped:
-        print(f"  {path}: {reason}")
-    for s, ds in splits.items():
-        missing = [c for c, n in zip(classes, counts[s]) if n == 0]
-        if missing and len(ds):
-            print(f"warning: no {s} objects for class(es) {', '.join(missing)}", file=sys.stderr)
-    if not len(splits["train"]) and not len(splits["test"]):  # say what was looked for
-        splits["test"].skipped = skipped
-        splits["test"].require_objects("objects (train or test)")
+    splits = describe(args.name, args.root, cache)
     if args.contact_sheet:
-        contact_sheet(args, splits)
+        from .visualize import contact_sheet
+        contact_sheet(args.name, args.root, splits, args.contact_sheet, args.sheet_split,
+                      args.objects_per_class, args.views_per_object, args.seed)
         print(f"wrote {args.contact_sheet}")
-
-
-def contact_sheet(args, splits):
-    """A row per class: objects_per_class test objects (train if the test split is empty), each
-    from views_per_object views; cells stay blank where a class has fewer objects."""
-    import numpy as np
-
-    from .depth_layer import DepthCamera
-    from .visualize import depth_grid
-
-    if args.name == "twins":  # pairs: a telling view and one that is not
-        from .datasets.twins import pair_sheet
-        images, labels, titles = pair_sheet(args.seed)
-        depth_grid(images.reshape(-1, *images.shape[2:]), args.contact_sheet, columns=4,
-                   row_labels=labels, titles=titles * len(labels))
-        return
-    if args.sheet_split != "test":  # a generated benchmark's held-out styles
-        from .datasets import open_dataset
-        ds = open_dataset(args.name, args.root, args.sheet_split,
-                          cache_dir=splits["test"].cache_dir)
-    else:
-        ds = splits["test"] if len(splits["test"]) else splits["train"]
-    rng, views = np.random.default_rng(args.seed), geometry_views(args.views_per_object)
-    images = []
-    for label in range(len(ds.classes)):
-        idx = np.flatnonzero(ds.labels() == label)
-        row = [img for i in rng.choice(idx, min(args.objects_per_class, len(idx)), replace=False)
-               for img in DepthCamera(*ds.mesh(i)).render(views)]
-        images += row + [None] * (args.objects_per_class * len(views) - len(row))
-    depth_grid(images, args.contact_sheet, columns=args.objects_per_class * len(views),
-               row_labels=ds.classes)
-
-
-def geometry_views(n):
-    """A few readable views: the first n of front, side, top, below, three-quarter."""
-    import numpy as np
-    views = [(1.57, -1.57), (1.57, 0.0), (0.35, -1.57), (2.6, -1.2), (1.0, -0.8)]
-    return np.array(views[:n])
 
 
 def add_dataset(sub):
@@ -162,44 +92,23 @@ def add_dataset(sub):
 
 def cmd_train(args):
     import dataclasses
-    from pathlib import Path
 
-    from .train import TrainConfig, train
-    from .validation import check_mapping, load_yaml
+    from .devices import finish_distributed
+    from .train import TrainConfig, preset_config, train
 
-    values = {}
-    if args.config is not None:
-        values = load_yaml(args.config, "--config")
-        try:
-            values = check_mapping(TrainConfig, values)
-        except InputError as e:
-            raise InputError(f"--config {args.config}: {e}") from None
-    fields = {f.name for f in dataclasses.fields(TrainConfig)}
-    for name in fields:  # flags given on the command line win over the preset
-        flag = getattr(args, name, None)
-        if flag is not None and flag is not False:
-            values[name] = flag
-    model = dict(values.get("model") or {})
-    for key in ("hidden_size", "encoder", "max_step", "radius", "view_input", "candidates"):
-        if getattr(args, key) is not None:
-            model[key] = getattr(args, key)
-    values["model"] = model
-    cfg = TrainConfig(**values)
+    flags = {f.name: getattr(args, f.name, None) for f in dataclasses.fields(TrainConfig)}
+    model = {k: getattr(args, k) for k in ("hidden_size", "encoder", "max_step", "radius",
+                                           "view_input", "candidates")}
+    cfg = preset_config(args.config, flags, model)
     train(cfg)
-    out = Path(cfg.out)
-    written = [f"{name}{note}" for name, note in (("last.pt", " (resumable)"), ("final.pt", ""))
-               if (out / name).exists()]
-    print(f"checkpoints in {out}: {', '.join(written)}")
-    import torch.distributed as dist
-    if dist.is_initialized():  # under torchrun: leave the group cleanly, then exit at once
-        dist.barrier()
-        dist.destroy_process_group()
-        # A finished torchrun worker sometimes aborted during interpreter teardown ("terminate
-        # called without an active exception", a C++ thread of gloo or embree); everything is
-        # written and flushed by now, so skip the teardown.
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(0)
+    print(f"checkpoints in {cfg.out}: {', '.join(written_checkpoints(cfg.out))}")
+    finish_distributed()
+
+
+def written_checkpoints(out):
+    from pathlib import Path
+    return [f"{name}{note}" for name, note in (("last.pt", " (resumable)"), ("final.pt", ""))
+            if (Path(out) / name).exists()]
 
 
 def add_train(sub):
@@ -315,36 +224,19 @@ def add_demo(sub):
 
 def cmd_evaluate(args):
     import json
-    from pathlib import Path
 
-    from .evaluate import EvalConfig, evaluate, summary, write_json
-    from .report import load_run_metrics, training_time
+    from .evaluate import EvalConfig, evaluate_with_training_time, planner_checkpoints
+    from .run_metrics import load_run_pair
 
-    own = {}
-    for item in args.planner_checkpoint:
-        name, sep, path = item.partition("=")
-        if not sep or not name or not path:
-            raise InputError(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
-        if name in own:
-            raise InputError(f"--planner-checkpoint: {name} is given twice")
-        own[name] = path
-    metrics = [m for m in (args.learned_metrics, args.reinforce_metrics) if m is not None]
-    if len(metrics) == 1:
-        raise InputError("--learned-metrics and --reinforce-metrics go together (the training-time "
-                         "comparison needs both runs)")
-    runs = [load_run_metrics(m) for m in metrics]  # read now, not after the evaluation
+    runs = load_run_pair(args.learned_metrics, args.reinforce_metrics)  # read before the work
     cfg = EvalConfig(checkpoint=args.checkpoint, reinforce_checkpoint=args.reinforce_checkpoint,
-                     planner_checkpoints=own,
+                     planner_checkpoints=planner_checkpoints(args.planner_checkpoint),
                      planners=tuple(p.strip() for p in args.planners.split(",")),
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, steps=args.steps,
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
                      shared=not args.no_shared)
-    results = evaluate(cfg)
-    s = summary(results)
-    if runs:
-        s["training_time"] = training_time(*runs, Path(args.out) / "training_time.png")
-        write_json(Path(args.out) / "summary.json", s)
+    s = evaluate_with_training_time(cfg, runs)
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
 

@@ -21,9 +21,6 @@ Markdown report and PNG plots.
 """
 from __future__ import annotations
 
-import csv
-import json
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -33,10 +30,11 @@ import torch
 from . import checkpoint, geometry
 from .datasets import NAMES, default_cache_dir, open_dataset
 from .datasets.base import SPLITS
+from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
-from .train import Shapes
+from .report import write_json, write_report
 from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
                          validate)
 
@@ -193,9 +191,32 @@ def evaluate(cfg: EvalConfig, progress=True):
     if cfg.shared:
         for ro in results.values():
             score_shared(net, test, ro)
-    from .report import write_report
-    write_report(results, classes, cfg, out, test)
+    write_report(results, summary(results), classes, cfg, out, test)
     return results
+
+
+def planner_checkpoints(items):
+    """{planner: model file} from PLANNER=FILE strings (--planner-checkpoint)."""
+    own = {}
+    for item in items:
+        name, sep, path = item.partition("=")
+        if not sep or not name or not path:
+            raise InputError(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
+        if name in own:
+            raise InputError(f"--planner-checkpoint: {name} is given twice")
+        own[name] = path
+    return own
+
+
+def evaluate_with_training_time(cfg: EvalConfig, runs=()):
+    """evaluate(cfg) and its summary; with `runs` (the learned and the reinforce run's metrics
+    rows), the training-time comparison too, in the summary and its plot."""
+    s = summary(evaluate(cfg))
+    if runs:
+        from .run_metrics import training_time
+        s["training_time"] = training_time(*runs, Path(cfg.out) / "training_time.png")
+        write_json(Path(cfg.out) / "summary.json", s)
+    return s
 
 
 def summary(results):
@@ -227,36 +248,6 @@ def standard_error(ro: Rollout, shared=False, views=3):
     objects, inverse = np.unique(ro.objects, return_inverse=True)
     per_object = np.bincount(inverse, correct) / np.bincount(inverse)
     return round(float(per_object.std(ddof=1) / np.sqrt(len(objects))), 4) if len(objects) > 1 else 0.0
-
-
-def write_csv(path, results, classes):
-    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    with open(tmp, "w", newline="") as f:
-        w = csv.writer(f)
-        steps = next(iter(results.values())).probs.shape[1]
-        w.writerow(["planner", "object", "true", "start", "stopped_at", "early_stop_pred"]
-                   + [f"pred_{t + 1}" for t in range(steps)]
-                   + [f"shared_pred_{t + 1}" for t in range(steps)]
-                   + [f"gain_{t + 1}" for t in range(steps)]
-                   + [f"view_{t + 1}" for t in range(steps)])
-        for name, ro in results.items():
-            for i in range(len(ro.objects)):
-                preds = ro.probs[i].argmax(-1)
-                shared = (ro.shared_probs[i].argmax(-1) if ro.shared_probs is not None
-                          else [-1] * steps)
-                w.writerow([name, int(ro.objects[i]), classes[ro.labels[i]], int(ro.starts[i]),
-                            int(ro.stopped_at[i]), classes[preds[ro.stopped_at[i] - 1]]]
-                           + [classes[p] for p in preds]
-                           + [classes[p] if p >= 0 else "" for p in shared]
-                           + [f"{g:.4f}" for g in ro.gain[i]]
-                           + [f"{t:.4f};{p:.4f}" for t, p in ro.views[i, :-1]])
-    os.replace(tmp, path)
-
-
-def write_json(path, data):
-    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    tmp.write_text(json.dumps(data, indent=1))
-    os.replace(tmp, path)
 
 
 def compare_runs(checkpoints, planners=("learned", "random", "straight"), starts=3, seed=0,

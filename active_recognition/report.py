@@ -12,9 +12,10 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Tables (Markdown, CSV, JSON) and plots (PNG) of an evaluation; training-time comparison."""
+"""One evaluation's report: its tables (Markdown, CSV, JSON) and plots (PNG)."""
 from __future__ import annotations
 
+import csv
 import json
 import os
 from pathlib import Path
@@ -22,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from . import geometry
-from .visualize import save_figure
+from .visualize import plt, save_figure
 
 PAPER = {  # the paper's accuracy after 3 / 6 / 9 views, random initial view (Table)
     "ModelNet10": (87.7, 89.8, 91.2), "ModelNet40": (86.1, 88.7, 89.8),
@@ -31,17 +32,10 @@ PAPER_TRAINING_HOURS = {"end-to-end (ours in the paper)": 19.5, "MV-RNN (REINFOR
                         "3DShapeNets": 96.0}
 
 
-def plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as pyplot
-    return pyplot
-
-
-def write_report(results, classes, cfg, out, shapes):
-    from .evaluate import summary, write_csv, write_json
+def write_report(results, s, classes, cfg, out, shapes):
+    """One evaluation's outputs in `out`: per_object.csv, summary.json (the summary `s`), the
+    plots and report.md."""
     out = Path(out)
-    s = summary(results)
     write_csv(out / "per_object.csv", results, classes)
     write_json(out / "summary.json", s)
     plot_accuracy(results, out / "accuracy_vs_views.png")
@@ -158,402 +152,31 @@ def plot_trajectories(results, shapes, path, objects=3, views=6):
     pyplot.close(fig)
 
 
-def time_to_reach(rows, target, column="acc_3"):
-    """Joint-stage wall-clock seconds at which `column` first reaches `target` (None if never)."""
-    joint = [r for r in rows if r["stage"] == "joint" and r.get(column) not in (None, "")]
-    if not joint:
-        return None
-    t0 = time_offset(rows)
-    for r in joint:
-        if float(r[column]) >= target:
-            return float(r["wall_s"]) - t0
-    return None
-
-
-def time_offset(rows):
-    """Wall-clock at the start of the joint stage (end of pre-training, if in the same run)."""
-    pre = [float(r["wall_s"]) for r in rows if r["stage"] == "pretrain"]
-    return max(pre) if pre else 0.0
-
-
-def load_run_metrics(path, column="acc_3"):
-    """The rows of a run's metrics.csv, for training_time; InputError naming the file unless every
-    row has a number for wall_s and the joint-stage rows one for `column` too."""
-    import csv
-    import io
-
-    from .validation import InputError, read_text
-
-    rows = list(csv.DictReader(io.StringIO(read_text(path, "metrics"))))
-    try:
-        joint = [r for r in rows if r["stage"] == "joint"]
-        ok = joint and all(np.isfinite([float(r["wall_s"]) for r in rows]
-                                       + [float(r[column]) for r in joint]))
-    except (KeyError, TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise InputError(f"metrics {path}: not a training run's metrics.csv with joint-stage rows "
-                         f"of wall_s and {column} (train with --eval-shapes > 0)")
-    return rows
-
-
-def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
-    """Accuracy vs joint-stage wall-clock for both; the time ratio to reinforce's best accuracy."""
-    best = max(float(r[column]) for r in reinforce_rows if r["stage"] == "joint")
-    t_learned, t_rf = time_to_reach(learned_rows, best, column), time_to_reach(reinforce_rows, best, column)
-    ratio = None if t_learned is None or not t_rf else t_learned / t_rf
-    best_learned = max(float(r[column]) for r in learned_rows if r["stage"] == "joint")
-    reverse = time_to_reach(reinforce_rows, best_learned, column)
-    if path is not None:
-        pyplot = plt()
-        fig, ax = pyplot.subplots(figsize=(5.5, 4))
-        for name, rows in (("learned (end to end)", learned_rows), ("reinforce", reinforce_rows)):
-            t0 = time_offset(rows)
-            joint = [r for r in rows if r["stage"] == "joint"]
-            ax.plot([(float(r["wall_s"]) - t0) / 60 for r in joint],
-                    [100 * float(r[column]) for r in joint], marker="o", ms=3, label=name)
-        ax.axhline(100 * best, color="grey", lw=0.8, ls="--")
-        ax.set_xlabel("joint-training wall-clock (min)")
-        ax.set_ylabel(f"test accuracy % ({column.replace('acc_', '')} views)")
-        ax.grid(alpha=0.3)
-        ax.legend()
-        fig.tight_layout()
-        save_figure(fig, path, dpi=110)
-        pyplot.close(fig)
-    return {"reinforce_best": best, "learned_s": t_learned, "reinforce_s": t_rf, "ratio": ratio,
-            "learned_best": best_learned, "reinforce_s_to_learned_best": reverse,
-            "learned_s_to_learned_best": time_to_reach(learned_rows, best_learned, column)}
-
-
-RESULTS_HEADER = """# Results on the procedural benchmark
-
-The planner tables below are measured with the current generator (issue #12's furniture-like
-styles) and models: procedural.pt (viewing-sphere radius 1.5, trained for an unknown yaw, a
-detector's error in the object frame, a ragged floor cut and missing pixels) and
-procedural_reinforce.pt, trained from the same pre-training with the same augmentation. The
-view-head study and the ablations further down are older (the previous generator and model,
-radius 1.0, no augmentation).
-
-Written by `python benchmarks/planners.py` (the whole procedural test split, 500 objects, 3
-seeded initial views each of the 50, the same for every planner: 1,500 episodes). The models and
-metrics it reads (the shipped ones by default):
-
-```
-active-recognition train --config config/train_procedural.yaml   # learned: the shipped model
-mkdir -p runs/reinforce && cp runs/ship/pretrained.pt runs/reinforce/
-active-recognition train --config config/train_reinforce.yaml    # REINFORCE, same pre-training
-cp runs/ship/final.pt active_recognition/checkpoints/procedural.pt
-cp runs/reinforce/final.pt active_recognition/checkpoints/procedural_reinforce.pt
-cp runs/ship/metrics.csv docs/results/learned_metrics.csv
-cp runs/reinforce/metrics.csv docs/results/reinforce_metrics.csv
-python benchmarks/planners.py --ship
-python benchmarks/dataset_difficulty.py --out docs/results/difficulty.json    # the headroom
-```
-The two runs ran one after the other on an otherwise idle 2-core machine, one thread each
-(`OMP_NUM_THREADS=1`); the training-time comparison reads their joint stages. The headroom is
-a property of the dataset, measured through the paper's camera (radius 1.0).
-"""
-
-
-# The joint-stage variants of the view-head study, each from runs/ship/pretrained.pt:
-# label -> the flags added to `train --stage joint --joint-epochs 12`
-VIEW_HEAD_RUNS = {
-    "base": "",
-    "step1.2": "--max-step 1.2",
-    "init40": "--initial-step 0 0.698",
-    "early": "--step-weighting early",
-    "init40+early": "--initial-step 0 0.698 --step-weighting early",
-    "init40+early+step1.2": "--initial-step 0 0.698 --step-weighting early --max-step 1.2",
-    "reinforce": "--policy reinforce",
-    "reinforce+init40+early": "--policy reinforce --initial-step 0 0.698 --step-weighting early",
-}
-# The twins candidate runs (besides imitation, runs/twins): label -> joint-stage flags
-TWINS_CANDIDATES = {
-    "learned": "--policy learned --joint-epochs 12",
-    "fixes": "--policy learned --joint-epochs 12 --revisit-penalty 1.0 --initial-step 0 0.7 "
-             "--step-weighting early",
-    "reinforce": "--policy reinforce --joint-epochs 12",
-    "hybrid": "--policy hybrid --joint-epochs 12 --initial-step 0 0.7 --step-weighting early",
-}
-ABLATIONS = ["hidden_64", "hidden_128", "hidden_256", "hidden_512", "hidden_1024",
-             "radius_0.5", "radius_1.0", "radius_1.5", "radius_2.0", "radius_2.5"]
-
-
-def study_section(path, title, intro, commands):
-    """A table of runs (learned / random / straight at k views) from docs/results/<study>.json."""
-    if not Path(path).is_file():
-        return []
-    data = json.loads(Path(path).read_text())
-    k = data["views"]
-    rows = [[label] + [f"{100 * acc[p][k - 1]:.1f}" for p in ("learned", "random", "straight")]
-            + [f"{100 * (acc['learned'][k - 1] - max(acc['random'][k - 1], acc['straight'][k - 1])):+.1f}"]
-            for label, acc in data["acc"].items()]
-    return ["", f"## {title}: accuracy (%) after {k} views", "", intro, "",
-            "```", *commands, "```", "",
-            table(rows, ["run", "own view head", "random", "straight", "own head - best baseline"])]
-
-
-def accuracy_rows(s, key, err):
-    """Table rows of a summary's accuracies (%) at 3 / 6 / 9 views, with the standard error at 3
-    when the summary has it."""
-    return [[k] + [f"{100 * v:.1f}" for v in s[key][k].values()]
-            + ([f"{100 * s[err][k]:.1f}"] if err in s else []) for k in s[key]]
-
-
-def cross_section(path, in_style):
-    """Every planner on the held-out styles (`planners.py --split cross`) beside the test split."""
-    if not Path(path).is_file():
-        return []
-    c = json.loads(Path(path).read_text())
-    rows = [row + [f"{100 * (c['acc'][row[0]]['3'] - in_style['acc'][row[0]]['3']):+.1f}"]
-            for row in accuracy_rows(c, "acc", "stderr_3") if row[0] in in_style["acc"]]
-    return ["", "## The held-out styles (the `cross` split, a proxy for real objects)", "",
-            "`python benchmarks/planners.py --split cross`: the same planners and models on the "
-            "cross split (500 objects whose style combinations no training shape has, 3 seeded "
-            "starts each); the last column is the change from the test split at 3 views (target: "
-            "within 5 points).", "",
-            table(rows, ["planner", "3", "6", "9", "s.e. at 3", "vs test split at 3"])]
-
-
-def write_results_page(path, results):
-    """docs/RESULTS.md from the summaries under `results` (summary.json: procedural;
-    twins/summary.json and twins/difficulty.json: the twins benchmark), beside the paper's."""
-    results = Path(results)
-    s = json.loads((results / "summary.json").read_text())
-    threshold = s.get("entropy_threshold", 0.1)
-
-    def fmt(seconds):
-        return "never" if seconds is None else f"{seconds:.0f} s"
-
-    t = s.get("training_time", {})
-    ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"
-    parts = [RESULTS_HEADER, *headroom_section(results / "difficulty.json"), "",
-             "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own recurrent classifier", "",
-             table(accuracy_rows(s, "acc", "stderr_3"),
-                   ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3" in s else []))]
-    acc3 = {k: v.get("3") for k, v in s["acc"].items()}
-    if acc3.get("oracle") is not None and acc3.get("random") is not None:
-        parts += ["", f"Headroom at 3 views: the privileged oracle is "
-                  f"{100 * (acc3['oracle'] - acc3['random']):+.1f} points from random views "
-                  f"({100 * acc3['random']:.1f} %). It renders every candidate before it chooses and "
-                  "is the strongest planner here, so a lead over random larger than that is more than "
-                  "this benchmark leaves room for."]
-    if "acc_shared" in s:
-        parts += ["", "## The same views scored by one shared multi-view classifier", "",
-                  table(accuracy_rows(s, "acc_shared", "stderr_3_shared"),
-                        ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3_shared" in s else []))]
-    parts += cross_section(results / "procedural-cross" / "summary.json", s)
-    parts += ["", "## Information gain per step (nats)", "",
-              table([[k] + [f"{g:.3f}" for g in v] for k, v in s["gain"].items()],
-                    ["planner"] + [str(i + 1) for i in range(len(next(iter(s["gain"].values()))))]),
-              "", f"## Early stop (entropy < {threshold})", "",
-              table([[k, f"{100 * v['accuracy']:.1f}", f"{v['mean_views']:.2f}"]
-                     for k, v in s["early_stop"].items()], ["planner", "accuracy %", "mean views"]),
-              "", "## Training time: end to end vs REINFORCE (joint stage, same pre-trained classifier)", "",
-              f"Best 3-view accuracy REINFORCE reaches (200 test objects, after each epoch): "
-              f"{100 * t.get('reinforce_best', float('nan')):.1f} %. Time to reach it: learned "
-              f"{fmt(t.get('learned_s'))}, reinforce {fmt(t.get('reinforce_s'))}; ratio "
-              f"{ratio} (the paper: 19.5 h / 66 h = 0.30). The other way round: the learned planner's "
-              f"best, {100 * t.get('learned_best', float('nan')):.1f} %, took it "
-              f"{fmt(t.get('learned_s_to_learned_best'))} and REINFORCE "
-              f"{fmt(t.get('reinforce_s_to_learned_best'))}.",
-              "", "![training time](results/training_time.png)", "",
-              "## The paper, for reference", "",
-              table([[k, a, b, c] for k, (a, b, c) in PAPER.items()], ["dataset", "3", "6", "9"]),
-              "", "Training hours in the paper: "
-              + ", ".join(f"{k} {v}" for k, v in PAPER_TRAINING_HOURS.items()) + ".",
-              "", "![accuracy](results/accuracy_vs_views.png) ![gain](results/information_gain.png)",
-              "", "![trajectories](results/trajectories.png)"]
-    parts += study_section(
-        results / "view_head.json", "View-head study",
-        "Measured with the previous generator and model (before issue #12). "
-        "Joint-stage variants from one pre-trained classifier (the shipped model's), 12 epochs "
-        "each; every run's own classifier scores its own views and random and straight views, on "
-        "the whole test split with 3 seeded initial views per object (1,500 episodes; one "
-        "standard error is about 0.6 points). `init40` starts the view head on a 40-degree step "
-        "in phi, `early` weights step t's loss by 1/t, `step1.2` raises the increment bound.",
-        ["for run in " + " ".join(VIEW_HEAD_RUNS) + "; do mkdir -p runs/study/$run; "
-         "cp runs/ship/pretrained.pt runs/study/$run/; done"]
-        + [f"active-recognition train --out runs/study/{k} --stage joint --joint-epochs 12 {v}".rstrip()
-           for k, v in VIEW_HEAD_RUNS.items()]
-        + ["python benchmarks/runs_table.py view_head " + " ".join(
-            f"{k}=runs/study/{k}" for k in VIEW_HEAD_RUNS)])
-    parts += study_section(
-        results / "ablations.json", "Ablations",
-        "The presets config/ablation_*.yaml: full runs (25 pre-training and 12 joint epochs) that "
-        "change one thing of the configuration of the previous shipped model (radius 1.0, hidden "
-        "size 256, the previous generator, no augmentation), so those two presets are one run. "
-        "Same scoring as above. The field of view follows the radius (the bounding sphere always "
-        "fills the image, 120 degrees at most), so a larger radius means less perspective, not a "
-        "smaller object; in the paper the object shrank and R = 1 was best. Here R = 1.5 was "
-        "best, and the shipped model now uses it: at R = 1 a centre or size 15 % off puts the "
-        "virtual camera inside the object's bounding sphere (camera robustness, below).",
-        [f"active-recognition train --config config/ablation_{a}.yaml" for a in ABLATIONS]
-        + ["python benchmarks/runs_table.py ablations " + " ".join(
-            f"{a}=runs/ablation_{a}" for a in ABLATIONS)])
-    parts += old_vs_new_section(results / "old_vs_new.json")
-    parts += camera_section(results / "camera_robustness.json")
-    parts += camera_section(results / "camera_robustness_500.json", heading=(
-        "## The closest rows, on all 500 test objects", "Standard errors of 200 objects (above) "
-        "are near 2.5 points, so the same model ran the object-frame rows, the floor, and every row "
-        "2.5 or more points below clean above, on the whole test split: `python benchmarks/camera_robustness.py "
-        "--objects 500 --rows ...`."))
-    parts += twins_section(results / "twins")
-    parts += study_section(
-        results / "twins_candidates.json", "Twins: every candidate planner",
-        "Measured on the twins pieces before issue #12 dressed them (bevels, leg kinds), from that "
-        "run's pre-training; the learned (`fixes`) and REINFORCE models of the tables above are "
-        "newer. "
-        "Joint-stage runs from the twins pre-training (`runs/twins/pretrained.pt`), each driving "
-        "its own view head (FC_view for imitation, FC_loc otherwise) and random and straight views "
-        "with its own classifier, on the twins test split, 3 seeded starts per object. `fixes` is "
-        "the end-to-end planner with the revisit penalty, a 40-degree initial step and early-step "
-        "weighting; `hybrid` adds REINFORCE to the view gradient.",
-        [f"active-recognition train --config config/train_twins.yaml --out runs/twins_{k} "
-         f"--stage joint {v}" for k, v in TWINS_CANDIDATES.items()]
-        + ["python benchmarks/runs_table.py twins_candidates " + " ".join(
-            f"{k}=runs/twins_{k}" for k in TWINS_CANDIDATES) + " imitation=runs/twins"])
-    parts.append("")
+def write_csv(path, results, classes):
     tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    tmp.write_text("\n".join(parts))
+    with open(tmp, "w", newline="") as f:
+        w = csv.writer(f)
+        steps = next(iter(results.values())).probs.shape[1]
+        w.writerow(["planner", "object", "true", "start", "stopped_at", "early_stop_pred"]
+                   + [f"pred_{t + 1}" for t in range(steps)]
+                   + [f"shared_pred_{t + 1}" for t in range(steps)]
+                   + [f"gain_{t + 1}" for t in range(steps)]
+                   + [f"view_{t + 1}" for t in range(steps)])
+        for name, ro in results.items():
+            for i in range(len(ro.objects)):
+                preds = ro.probs[i].argmax(-1)
+                shared = (ro.shared_probs[i].argmax(-1) if ro.shared_probs is not None
+                          else [-1] * steps)
+                w.writerow([name, int(ro.objects[i]), classes[ro.labels[i]], int(ro.starts[i]),
+                            int(ro.stopped_at[i]), classes[preds[ro.stopped_at[i] - 1]]]
+                           + [classes[p] for p in preds]
+                           + [classes[p] if p >= 0 else "" for p in shared]
+                           + [f"{g:.4f}" for g in ro.gain[i]]
+                           + [f"{t:.4f};{p:.4f}" for t, p in ro.views[i, :-1]])
     os.replace(tmp, path)
 
 
-TWINS_COMMANDS = """active-recognition train --config config/train_twins.yaml                    # imitation: twins.pt
-for run in twins_learned twins_fixes twins_reinforce twins_hybrid; do
-    mkdir -p runs/$run; cp runs/twins/pretrained.pt runs/$run/; done
-# the candidates of the table below (runs/twins_<label>, flags in its commands), then:
-cp runs/twins/final.pt active_recognition/checkpoints/twins.pt
-cp runs/twins_fixes/final.pt active_recognition/checkpoints/twins_learned.pt   # best end to end
-cp runs/twins_reinforce/final.pt active_recognition/checkpoints/twins_reinforce.pt
-cp runs/twins_fixes/metrics.csv docs/results/twins/learned_metrics.csv
-cp runs/twins_reinforce/metrics.csv docs/results/twins/reinforce_metrics.csv
-python benchmarks/dataset_difficulty.py --dataset twins --out docs/results/twins/difficulty.json
-python benchmarks/planners.py --dataset twins --ship"""
-
-
-def headroom_section(path):
-    """The room a planner has, from benchmarks/dataset_difficulty.py's JSON (if written)."""
-    if not Path(path).is_file():
-        return []
-    d = json.loads(Path(path).read_text())
-    return ["", "## Headroom (`benchmarks/dataset_difficulty.py`, one view-pooling classifier "
-            "trained on random views)", "",
-            table([[f"{100 * d[k]:.1f}" for k in ("acc_1_view", "acc_3_random", "acc_3_best",
-                                                  "acc_3_best_fixed", "acc_9_views")]],
-                  ["1 random view", "3 random", "best 3 of 50 (privileged)",
-                   "random + best fixed 2", "9 spread"]),
-            "", f"Best 3 minus 3 random: {100 * (d['acc_3_best'] - d['acc_3_random']):+.1f} "
-            f"points; best 3 minus the best fixed path: "
-            f"{100 * (d['acc_3_best'] - d['acc_3_best_fixed']):+.1f} points."]
-
-
-def old_vs_new_section(path):
-    """The shipped model before and after the furniture-like generator (benchmarks/old_vs_new.py)."""
-    if not Path(path).is_file():
-        return []
-    d = json.loads(Path(path).read_text())
-    splits = list(dict.fromkeys(k.split(", ")[1] for k in d))
-    models = list(dict.fromkeys(k.split(" model, ")[0] for k in d))
-    rows = [[f"{m} model, {p}"] + [f"{100 * d[f'{m} model, {sp}, {p}']:.1f}" for sp in splits]
-            for m in models for p in ("learned", "straight")]
-    return ["", "## Old and new shipped model (`benchmarks/old_vs_new.py`)", "",
-            "Accuracy (%) after 3 views, the same seeded objects and starts for both models: the "
-            "old generator's test split (boxes and cylinders), the new generator's test split "
-            "(its training styles) and its cross split (the held-out styles). The old model was "
-            "trained on canonical frames and clean images at radius 1.0, the new one at radius 1.5 "
-            "with the yaw, frame-error, floor-cut and dropout augmentation "
-            "(config/train_procedural.yaml); each model sees through its own camera. The `canonical` "
-            "model, where present, is the new one trained without the yaw "
-            "(config/train_procedural_canonical.yaml): what knowing nothing of the heading costs "
-            "on objects in their canonical heading.", "",
-            table(rows, ["model, planner"] + splits),
-            "", "![contact sheet](contact_sheet.png) ![held-out styles](cross_contact_sheet.png)"]
-
-
-def camera_section(path, heading=None):
-    """The shipped model through real-looking cameras (benchmarks/camera_robustness.py); with
-    `heading` (title, text), a short table of selected rows."""
-    if not Path(path).is_file():
-        return []
-    d = json.loads(Path(path).read_text())
-    clean = d["rows"]["clean"]["acc_3"]
-
-    def target(name):  # points below clean allowed (issues #11, #12): held-out styles 5, else 3
-        return 5 if name.startswith("cross-style") else 3
-
-    rows = [[name, f"{100 * r['acc_3']:.1f}", f"{100 * (r['acc_3'] - clean):+.1f}",
-             "" if name == "clean" else f"-{target(name)}: "
-             + ("met" if 100 * (clean - r["acc_3"]) <= target(name) else "missed"),
-             f"{100 * r['acc_stop']:.1f}", f"{r['mean_views']:.2f}"] for name, r in d["rows"].items()]
-    columns = ["camera", "acc. after 3 views %", "vs clean", "target", "acc. at stop %",
-               "mean views"]
-    if heading is not None:
-        return ["", heading[0], "", heading[1], "", table(rows, columns)]
-    return ["", "## Through a real-looking camera (`benchmarks/camera_robustness.py`)", "",
-            f"The shipped model ({Path(d['checkpoint']).name}) on {d['objects']} procedural test "
-            "objects, each row changing one thing of the model's own camera (the last, all of a "
-            "RealSense at once); every image goes through the recognizer's reprojection into the "
-            "model's camera, and every row has the same objects, starts and random draws. "
-            "Accuracy after 3 views is the answer after the third view, or at the stop if the "
-            "episode stopped sooner. One standard error is about "
-            f"{100 * d['rows']['clean']['stderr_3']:.1f} points.", "",
-            "`yaw unknown` turns every object by a random yaw (its box re-fitted, as a "
-            "detector's would be); `cross-style` runs the held-out styles of every class (the "
-            "`cross` split), a proxy for real objects. The object-frame rows move the object away "
-            "from the centre the recognizer is told, or tell it a wrong size; the recognizer "
-            "re-centres the frame on what its first view sees (`recentre`, on by default: README, "
-            "'With a real depth camera').", "",
-            table(rows, ["camera", "acc. after 3 views %", "vs clean", "target", "acc. at stop %",
-                         "mean views"])]
-
-
-def twins_section(folder):
-    """The twins benchmark: its headroom, and every planner on the same episodes."""
-    folder = Path(folder)
-    if not (folder / "summary.json").is_file():
-        return []
-    s = json.loads((folder / "summary.json").read_text())
-    parts = ["", "# Results on the twins benchmark", "",
-             "Six pairs of look-alike furniture; the two classes of a pair differ only by what sits "
-             "at the back of a niche that is seen from about 45 degrees around one face, and each "
-             "pair has its niche on another face (README, 'The twins benchmark'). Every planner "
-             "runs the same episodes: the whole test split (600 objects), 3 seeded initial views "
-             "each (1,800 episodes). `learned` drives twins_learned.pt (the best end-to-end run, "
-             "`fixes` in the candidate table below), `reinforce` twins_reinforce.pt; random, "
-             "straight, fixed, imitation and the oracle drive twins.pt, whose classifier scores "
-             "their views. The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
-    parts += headroom_section(folder / "difficulty.json")
-
-    parts += ["", "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own classifier", "",
-              table(accuracy_rows(s, "acc", "stderr_3"), ["planner", "3", "6", "9", "s.e. at 3"]),
-              "", "## The same views scored by the shared multi-view classifier", "",
-              table(accuracy_rows(s, "acc_shared", "stderr_3_shared"), ["planner", "3", "6", "9", "s.e. at 3"])]
-    acc3 = {k: v["3"] for k, v in s["acc"].items()}
-    sh3 = {k: v["3"] for k, v in s["acc_shared"].items()}
-    best = s.get("default_planner")
-    if best and "random" in acc3 and "straight" in acc3:
-        base, base_sh = max(acc3["random"], acc3["straight"]), max(sh3["random"], sh3["straight"])
-        lines = [f"- default planner `{best}`: {100 * (acc3[best] - base):+.1f} points over the best "
-                 f"of random and straight with its own classifier, {100 * (sh3[best] - base_sh):+.1f} "
-                 "with the shared one"]
-        if "fixed" in acc3:
-            lines.append(f"- `{best}` over `fixed`: {100 * (acc3[best] - acc3['fixed']):+.1f} points "
-                         f"(own classifier), {100 * (sh3[best] - sh3['fixed']):+.1f} (shared)")
-        if "learned" in acc3:
-            lines.append(f"- `learned` (end to end): {100 * (acc3['learned'] - base):+.1f} points "
-                         "over the best of random and straight, here scored by twins.pt's "
-                         "classifier; with its own classifier see the candidate table below")
-        parts += ["", "At 3 views:", "", *lines]
-    t = s.get("training_time", {})
-    if t:
-        ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"
-        learned = ("never reaches it" if t.get("learned_s") is None
-                   else f"reaches it in {t['learned_s']:.0f} s")
-        parts += ["", f"Training time (joint stage): REINFORCE's best 3-view accuracy is "
-                  f"{100 * t['reinforce_best']:.1f} % (200 test objects after each epoch), reached "
-                  f"in {t.get('reinforce_s') or 0:.0f} s; the end-to-end planner {learned} (its own "
-                  f"best: {100 * t['learned_best']:.1f} %); ratio {ratio} (the paper: 0.30).",
-                  "", "![twins training time](results/twins/training_time.png)",
-                  "![twins accuracy](results/twins/accuracy_vs_views.png)"]
-    return parts
+def write_json(path, data):
+    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
+    tmp.write_text(json.dumps(data, indent=1))
+    os.replace(tmp, path)

@@ -23,29 +23,28 @@ Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, ncc
 """
 from __future__ import annotations
 
-import csv
 import gc
-import math
-import os
 import sys
 import time
 from dataclasses import asdict, dataclass
-from pathlib import Path
 
 import numpy as np
 import torch
-import torch.distributed as dist
 from torch import nn
 from tqdm import tqdm
 
 from . import checkpoint, geometry
 from .augment import Augment
 from .datasets import NAMES, default_cache_dir, open_dataset
-from .depth_layer import CameraConfig, DepthCamera, GRADIENT_RULES
+from .datasets.shapes import Shapes
+from .depth_layer import CameraConfig, GRADIENT_RULES
+from .devices import distributed, resolve_device
 from .episode import Episode, EpisodeConfig, run
+from .losses import ImitationLoss, JointLoss, PretrainLoss, ReinforceLoss
 from .model import ModelConfig, RecurrentAttention
-from .policies import lookahead_logits, visited_mask
-from .validation import Check, InputError, SEED_MAX, option, output_dir, validate
+from .run_metrics import read_metrics, write_metrics
+from .validation import (Check, InputError, SEED_MAX, check_mapping, load_yaml, option, output_dir,
+                         validate)
 
 STAGES = ("pretrain", "joint")
 STEP_WEIGHTINGS = ("uniform", "early")
@@ -108,16 +107,20 @@ class TrainConfig:
         return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout)
 
 
-def step_weights(steps, weighting="uniform"):
-    """Weights of the per-step losses, summing to 1: uniform (the paper) or early (1/t, t = 1..T),
-    which favours recognising after few views."""
-    w = torch.ones(steps) if weighting == "uniform" else 1.0 / torch.arange(1, steps + 1)
-    return w / w.sum()
-
-
-def steps_loss(out, labels, weights):
-    """The episode's loss: per-step cross-entropies, weighted (weights from step_weights)."""
-    return sum(w * nn.functional.cross_entropy(s.logits, labels) for w, s in zip(weights, out))
+def preset_config(preset=None, flags=None, model=None) -> TrainConfig:
+    """The run's TrainConfig: the YAML `preset` (if given), then the `flags` that are set (None
+    and False are unset), then `model` overrides (ModelConfig fields) that are set."""
+    values = {}
+    if preset is not None:
+        values = load_yaml(preset, "--config")
+        try:
+            values = check_mapping(TrainConfig, values)
+        except InputError as e:
+            raise InputError(f"--config {preset}: {e}") from None
+    values.update({k: v for k, v in (flags or {}).items() if v is not None and v is not False})
+    values["model"] = {**(values.get("model") or {}),
+                       **{k: v for k, v in (model or {}).items() if v is not None}}
+    return TrainConfig(**values)
 
 
 def initial_step_bias(step, bound):
@@ -133,168 +136,6 @@ def set_initial_step(model, step):
     """Make the untrained view head walk a fixed increment."""
     with torch.no_grad():
         model.locate.bias.copy_(initial_step_bias(step, model.config.max_step))
-
-
-class Shapes:
-    """A dataset split with one lazily built DepthCamera per shape, or with `augment` (and an
-    rng) a fresh camera around an augmented copy of each shape."""
-
-    def __init__(self, ds, camera: CameraConfig):
-        self.ds, self.camera, self._cams = ds, camera, {}
-        self.labels = ds.labels()
-
-    def __len__(self):
-        return len(self.ds)
-
-    def cameras(self, idx, augment: Augment | None = None, rng=None):
-        if augment is not None and augment.meshes:
-            return [augment.camera(*self.ds.mesh(i), self.camera, rng) for i in idx]
-        for i in idx:
-            if i not in self._cams:
-                self._cams[i] = DepthCamera(*self.ds.mesh(i), self.camera)
-        return [self._cams[i] for i in idx]
-
-
-class PretrainLoss(nn.Module):
-    """The shape classifier on single images (wrapped whole by DDP: one forward per backward)."""
-
-    def __init__(self, model):
-        super().__init__()
-        self.model = model
-
-    def forward(self, depth, labels, views=None):
-        logits = self.model.classify_image(depth, views)
-        return nn.functional.cross_entropy(logits, labels), (logits.argmax(1) == labels).float().mean()
-
-
-class JointLoss(nn.Module):
-    """A whole batch of episodes, rendered through the differentiable depth layer."""
-
-    def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0,
-                 corrupt=None):
-        super().__init__()
-        self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
-        self.weights = step_weights(steps, weighting).tolist()
-        self.revisit, self.corrupt = revisit, corrupt
-
-    def forward(self, cameras, views, labels):
-        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
-        out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
-        loss = steps_loss(out, labels, self.weights)
-        if self.revisit:
-            loss = loss + self.revisit * revisit_penalty(torch.stack(ep.views[:self.steps], 1))
-        return loss, (out[-1].logits.argmax(1) == labels).float().mean()
-
-
-def revisit_penalty(views, within=math.radians(30)):
-    """VERAM's penalty on looking again where one has looked: for every view (B, T, 2) and each
-    earlier one, how far the cosine of the angle between them exceeds cos(`within`), averaged.
-    Differentiable in the views, so it pushes FC_loc's increments apart."""
-    pos = geometry.unit_position(views)                                         # (B, T, 3)
-    cos = pos @ pos.transpose(1, 2)                                              # (B, T, T)
-    earlier = torch.ones_like(cos[0]).tril(-1).bool()
-    return torch.relu(cos[:, earlier] - math.cos(within)).sum(1).mean()
-
-
-class ReinforceLoss(nn.Module):
-    """MV-RNN-style baseline: a Gaussian view policy trained with REINFORCE and a baseline.
-
-    No gradient crosses the depth layer; the reward is a correct final prediction plus the
-    entropy decrease over the episode (in units of log C); the baseline is a running mean.
-    With `rule` (the hybrid policy) the renders are differentiable too: FC_loc learns from the
-    depth layer's view gradient (through the sampled increments) and from REINFORCE at once.
-    """
-
-    def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9,
-                 rule=None, reduction="mean", corrupt=None):
-        super().__init__()
-        self.model, self.steps, self.std, self.corrupt = model, steps, std, corrupt
-        self.rule, self.reduction = rule, reduction
-        self.weights = step_weights(steps, weighting).tolist()
-        self.entropy_weight, self.momentum = entropy_weight, momentum
-        self.register_buffer("baseline", torch.zeros(()))
-
-    def forward(self, cameras, views, labels):
-        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     exploration_std=self.std, explore_through=self.rule is not None)
-        out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
-        ce = steps_loss(out, labels, self.weights)
-        correct = (out[-1].logits.argmax(1) == labels).float()
-        gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
-        reward = correct + self.entropy_weight * gain
-        advantage = reward - self.baseline
-        with torch.no_grad():
-            self.baseline.mul_(self.momentum).add_((1 - self.momentum) * reward.mean())
-        policy = -(advantage.detach() * torch.stack(ep.log_probs).sum(0)).mean()
-        return ce + policy, correct.mean()
-
-
-class ImitationLoss(nn.Module):
-    """FC_view imitates the oracle, DAgger-style; the classifier learns on the states visited.
-
-    At every step the oracle tries each candidate view of each object with the current model
-    and picks the one after which the true class is most probable (privileged, training only).
-    FC_view is trained to pick it (cross-entropy over the candidates not yet visited). The next
-    view is the oracle's with probability `mix`, else FC_view's, so FC_view also learns from
-    states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
-    """
-
-    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None):
-        super().__init__()
-        self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
-        self.weights = step_weights(steps, weighting).tolist()
-        self.candidates = geometry.fibonacci_views(model.config.candidates)
-
-    def oracle_targets(self, cand_features, hidden, labels, visited):
-        """(B,) index of the best unvisited candidate for each object, by true-class loss."""
-        with torch.no_grad():
-            logits = lookahead_logits(self.model, cand_features, hidden, self.candidates)
-            loss = nn.functional.cross_entropy(logits.transpose(1, 2), labels[:, None].expand(
-                -1, logits.shape[1]), reduction="none")                              # (B, K)
-            loss[torch.as_tensor(visited, device=loss.device)] = float("inf")
-            return loss.argmin(1)
-
-    def forward(self, cameras, views, labels):
-        model, k = self.model, len(self.candidates)
-        with torch.no_grad():
-            depth = np.stack([c.render(self.candidates) for c in cameras])          # (B, K, H, W)
-            depth = self.corrupt(torch.from_numpy(depth))
-            feats = model.features(depth.flatten(0, 1).to(labels.device))
-        self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
-        ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     planner=self)
-        out = run(ep, cameras, views, self.steps, corrupt=self.corrupt)  # plain renders
-        loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
-        return loss, (out[-1].logits.argmax(1) == labels).float().mean()
-
-    def next_view(self, episode, step):
-        """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
-        visited = visited_mask(episode, self.candidates)
-        target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
-        scores = self.model.score_views(episode.hidden)
-        masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
-        self.head_losses.append(nn.functional.cross_entropy(masked, target))
-        follow = torch.rand(len(target), device=target.device) < self.mix
-        choice = torch.where(follow, target, masked.detach().argmax(1))
-        return self.candidates[choice.cpu().numpy()]
-
-
-def distributed(device="cpu"):
-    """(rank, world) and the process group, when started by torchrun: nccl on GPU, gloo on CPU."""
-    world = int(os.environ.get("WORLD_SIZE", "1"))
-    rank = int(os.environ.get("RANK", "0"))
-    if world > 1 and not dist.is_initialized():
-        dist.init_process_group("nccl" if device.startswith("cuda") else "gloo")
-    return rank, world
-
-
-def resolve_device(device, rank):
-    """cuda on a torchrun rank means that rank's own GPU (LOCAL_RANK)."""
-    if device == "cuda" and int(os.environ.get("WORLD_SIZE", "1")) > 1:
-        return f"cuda:{int(os.environ.get('LOCAL_RANK', rank))}"
-    if device.startswith("cuda") and not torch.cuda.is_available():
-        raise InputError(f"device {device!r} asked for, but torch sees no CUDA GPU")
-    return device
 
 
 def batches(n, batch, seed, stage, epoch, rank, world):
@@ -331,185 +172,207 @@ def own_planner(model, policy):
     return None
 
 
-def write_metrics(path, rows):
-    """Rewrite the metrics CSV atomically."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    keys = list(dict.fromkeys(k for r in rows for k in r))
-    with open(tmp, "w", newline="") as f:
-        w = csv.DictWriter(f, keys)
-        w.writeheader()
-        w.writerows(rows)
-    os.replace(tmp, path)
-
-
-def read_metrics(path):
-    if not Path(path).is_file():
-        return []
-    with open(path) as f:
-        return list(csv.DictReader(f))
-
-
-def stop_if_diverged(model, where, ckpt_path, saved, loss=None):
-    """InputError when `loss` (if given), else any weight, is not finite: training has diverged.
-    The message says where and which checkpoint is the last good one (none is overwritten)."""
-    if loss is not None:
-        bad = None if math.isfinite(loss) else f"the loss became {loss}"
-    else:
-        name = checkpoint.nonfinite(model.state_dict())
-        bad = None if name is None else f"weight {name} became non-finite"
-    if bad is None:
-        return
-    last = (f"the last good checkpoint is {ckpt_path} (step {saved})" if saved is not None else
-            "no checkpoint had been written yet")
-    raise InputError(f"training stopped at {where}: {bad} (is a learning rate too high?); {last}")
-
-
 def train(cfg: TrainConfig, progress=True):
-    """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt."""
-    rank, world = distributed(cfg.device)
-    device = resolve_device(cfg.device, rank)
-    torch.manual_seed(cfg.seed)
-    out = output_dir(cfg.out, "out")
-    ckpt_path, metrics_path = out / "last.pt", out / "metrics.csv"
-    if cfg.resume and not ckpt_path.exists():
-        raise InputError(f"resume: {ckpt_path} does not exist, so there is nothing to resume "
-                         f"(leave out --resume to start afresh)")
-    cache = default_cache_dir()
-    train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache).require_objects()
-    if len(train_ds.classes) < 2:
-        raise InputError(f"{train_ds.layout or cfg.dataset}: {len(train_ds.classes)} class "
-                         f"{train_ds.classes}; recognising needs at least 2")
-    test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
-    if cfg.max_shapes:  # a seeded subset with every class in it
-        train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(len(train_ds))[:cfg.max_shapes]))
-    mcfg = ModelConfig(**{"num_classes": len(train_ds.classes), **cfg.model})
-    model = RecurrentAttention(mcfg).to(device)
-    camera = CameraConfig(mcfg.image_size, mcfg.image_size, radius=mcfg.radius)
-    shapes, test = Shapes(train_ds, camera), Shapes(test_ds, camera)
-    augment = cfg.augment()
-    corrupt = augment.images if augment.dropout > 0 else None
-    state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
-    rows, elapsed, opt_state, saved = [], 0.0, None, None
-    if cfg.resume:
-        ckpt = checkpoint.read_fitting(ckpt_path, mcfg, train_ds.classes, resumable=True)
-        model.load_state_dict(ckpt["model"])
-        state, elapsed, opt_state = dict(ckpt["state"]), ckpt["elapsed"], ckpt["optimizer"]
-        rows, saved = read_metrics(metrics_path), state["step"]
-        if rank == 0:
-            print(f"resumed from {ckpt_path} at {state}", file=sys.stderr)
-    stages = STAGES if cfg.stage == "all" else (cfg.stage,)
-    if cfg.stage == "joint" and not cfg.resume and (out / "pretrained.pt").exists():
-        model.load_state_dict(checkpoint.read_fitting(out / "pretrained.pt", mcfg,
-                                                      train_ds.classes)["model"])
-    elif cfg.stage == "joint" and not cfg.resume and rank == 0:
-        print(f"warning: no {out / 'pretrained.pt'}: the joint stage starts from an untrained "
-              f"classifier", file=sys.stderr)
-    start = time.perf_counter() - elapsed
+    """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt.
 
-    def save_state(opt):
-        nonlocal saved
-        if rank == 0:
-            stop_if_diverged(model, f"step {state['step']}", ckpt_path, saved)
-            payload = {"model": model.state_dict(), "model_args": mcfg.to_dict(),
-                       "classes": list(train_ds.classes), "optimizer": opt.state_dict(),
-                       "state": dict(state), "config": asdict(cfg),
-                       "elapsed": time.perf_counter() - start}
-            checkpoint.save(ckpt_path, payload)
-            saved = state["step"]
+    The paper's two stages: pre-train the shape classifier on single views of random viewpoints,
+    then train the whole recurrent model on episodes (the view planner with it)."""
+    run = Trainer(cfg, progress)
+    if run.wants("pretrain"):
+        run.stage("pretrain", PretrainLoss(run.model))
+        run.save_pretrained()
+    if run.wants("joint"):
+        run.stage("joint", joint_loss(cfg, run.model, run.corrupt))
+    return run.finish()
 
-    for s, stage in enumerate(STAGES):
-        if stage not in stages or s < state["stage"]:
-            continue
-        if s > state["stage"]:
-            state.update(stage=s, epoch=0, batch=0)
-            opt_state = None
-        fresh = state["epoch"] == 0 and state["batch"] == 0
-        if stage == "joint" and fresh and cfg.initial_step is not None:
-            set_initial_step(model, cfg.initial_step)
+
+def joint_loss(cfg: TrainConfig, model, corrupt):
+    """The episode loss of the joint stage for cfg.policy."""
+    if cfg.policy in ("reinforce", "hybrid"):
+        rule = cfg.view_gradient if cfg.policy == "hybrid" else None
+        return ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
+                             reduction=cfg.gradient_reduction, corrupt=corrupt)
+    if cfg.policy == "imitation":
+        return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt)
+    return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
+                     cfg.step_weighting, cfg.revisit_penalty, corrupt)
+
+
+class Trainer:
+    """One training run: its data, model, optimiser state, metrics and checkpoints."""
+
+    def __init__(self, cfg: TrainConfig, progress=True):
+        self.cfg, self.progress = cfg, progress
+        self.rank, self.world = distributed(cfg.device)
+        self.device = resolve_device(cfg.device, self.rank)
+        torch.manual_seed(cfg.seed)
+        self.out = output_dir(cfg.out, "out")
+        self.ckpt_path, self.metrics_path = self.out / "last.pt", self.out / "metrics.csv"
+        if cfg.resume and not self.ckpt_path.exists():
+            raise InputError(f"resume: {self.ckpt_path} does not exist, so there is nothing to "
+                             f"resume (leave out --resume to start afresh)")
+        self.load_data()
+        self.mcfg = ModelConfig(**{"num_classes": len(self.classes), **cfg.model})
+        self.model = RecurrentAttention(self.mcfg).to(self.device)
+        camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
+        self.shapes, self.test = Shapes(self.train_ds, camera), Shapes(self.test_ds, camera)
+        self.augment = cfg.augment()
+        self.corrupt = self.augment.images if self.augment.dropout > 0 else None
+        self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
+        self.rows, elapsed, self.opt_state, self.saved = [], 0.0, None, None
+        if cfg.resume:
+            ckpt = checkpoint.read_fitting(self.ckpt_path, self.mcfg, self.classes, resumable=True)
+            self.model.load_state_dict(ckpt["model"])
+            self.state, elapsed = dict(ckpt["state"]), ckpt["elapsed"]
+            self.opt_state = ckpt["optimizer"]
+            self.rows, self.saved = read_metrics(self.metrics_path), self.state["step"]
+            self.log(f"resumed from {self.ckpt_path} at {self.state}")
+        self.load_pretrained()
+        self.start = time.perf_counter() - elapsed
+
+    def load_data(self):
+        cfg, cache = self.cfg, default_cache_dir()
+        self.train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache).require_objects()
+        self.classes = list(self.train_ds.classes)
+        if len(self.classes) < 2:
+            raise InputError(f"{self.train_ds.layout or cfg.dataset}: {len(self.classes)} class "
+                             f"{self.classes}; recognising needs at least 2")
+        self.test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
+        if cfg.max_shapes:  # a seeded subset with every class in it
+            n = len(self.train_ds)
+            self.train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(n)[:cfg.max_shapes]))
+
+    def load_pretrained(self):
+        """A joint stage run on its own starts from the run's pretrained.pt."""
+        if self.cfg.stage != "joint" or self.cfg.resume:
+            return
+        if (self.out / "pretrained.pt").exists():
+            self.model.load_state_dict(checkpoint.read_fitting(
+                self.out / "pretrained.pt", self.mcfg, self.classes)["model"])
+        else:
+            self.log(f"warning: no {self.out / 'pretrained.pt'}: the joint stage starts from an "
+                     f"untrained classifier")
+
+    def log(self, text):
+        if self.rank == 0:
+            print(text, file=sys.stderr)
+
+    def wants(self, stage):
+        """Whether `stage` is to run (asked for, and not finished before a resume)."""
+        s = STAGES.index(stage)
+        return self.cfg.stage in ("all", stage) and s >= self.state["stage"]
+
+    def optimizer(self, stage):
+        """Adam over the model, FC_loc at its own rate in the joint stage; a resumed run's state."""
+        cfg, model = self.cfg, self.model
         lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
         head = list(model.locate.parameters())
         rest = [p for n, p in model.named_parameters() if not n.startswith("locate.")]
         scale = cfg.lr_view_scale if stage == "joint" else 1.0
         opt = torch.optim.Adam([{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}])
-        if opt_state is not None:
+        if self.opt_state is not None:
             try:
-                opt.load_state_dict(opt_state)
+                opt.load_state_dict(self.opt_state)
             except (ValueError, KeyError, TypeError, RuntimeError) as e:
-                raise checkpoint.CheckpointError(ckpt_path, f"its optimizer state does not fit this "
-                                                            f"run ({str(e)[:200]})") from None
-            opt_state = None
-        if stage == "pretrain":
-            wrapper = PretrainLoss(model)
-        elif cfg.policy in ("reinforce", "hybrid"):
-            rule = cfg.view_gradient if cfg.policy == "hybrid" else None
-            wrapper = ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
-                                    reduction=cfg.gradient_reduction, corrupt=corrupt)
-        elif cfg.policy == "imitation":
-            wrapper = ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt)
-        else:
-            wrapper = JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
-                                cfg.step_weighting, cfg.revisit_penalty, corrupt)
+                raise checkpoint.CheckpointError(self.ckpt_path, f"its optimizer state does not fit "
+                                                                 f"this run ({str(e)[:200]})") from None
+            self.opt_state = None
+        return opt
+
+    def stage(self, stage, wrapper):
+        s, cfg = STAGES.index(stage), self.cfg
+        if s > self.state["stage"]:
+            self.state.update(stage=s, epoch=0, batch=0)
+            self.opt_state = None
+        fresh = self.state["epoch"] == 0 and self.state["batch"] == 0
+        if stage == "joint" and fresh and cfg.initial_step is not None:
+            set_initial_step(self.model, cfg.initial_step)
+        opt = self.optimizer(stage)
         # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
         net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
-               if world > 1 else wrapper)
+               if self.world > 1 else wrapper)
         epochs = cfg.pretrain_epochs if stage == "pretrain" else cfg.joint_epochs
-        for epoch in range(state["epoch"], epochs):
-            todo = batches(len(shapes), cfg.batch_size, cfg.seed, stage, epoch, rank, world)
-            bar = tqdm(range(state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
-                       disable=not progress or rank != 0, file=sys.stderr, leave=False)
-            losses, accs = [], []
-            for b in bar:
-                idx = todo[b]
-                rng = np.random.default_rng([cfg.seed, s, epoch, b, rank])
-                torch.manual_seed(int(rng.integers(2 ** 31)))
-                y = torch.as_tensor(shapes.labels[idx], device=device)
-                cams = shapes.cameras(idx, augment, rng)
-                if stage == "pretrain":
-                    k = cfg.views_per_shape
-                    views = [geometry.random_views(rng, k) for _ in cams]
-                    depth = augment.images(torch.from_numpy(np.concatenate(
-                        [c.render(v) for c, v in zip(cams, views)])))
-                    views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=device)
-                    loss, acc = net(depth.to(device), y.repeat_interleave(k), views)
-                else:
-                    views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
-                    loss, acc = net(cams, views, y)
-                stop_if_diverged(model, f"{stage} epoch {epoch + 1}, batch {b + 1} (step "
-                                 f"{state['step'] + 1})", ckpt_path, saved, loss.item())
-                opt.zero_grad()
-                loss.backward()
-                opt.step()
-                losses.append(loss.item())
-                accs.append(acc.item())
-                bar.set_postfix(loss=f"{np.mean(losses[-20:]):.3f}", acc=f"{np.mean(accs[-20:]):.3f}")
-                state.update(batch=b + 1, step=state["step"] + 1)
-                if state["step"] % cfg.checkpoint_every == 0:
-                    save_state(opt)
-            state.update(epoch=epoch + 1, batch=0)
-            if rank == 0:
-                row = {"stage": stage, "epoch": epoch + 1, "step": state["step"],
-                       "wall_s": round(time.perf_counter() - start, 2),
-                       "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
-                       "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
-                       **evaluate_accuracy(model, test, cfg.eval_shapes, seed=cfg.seed,
-                                           planner=own_planner(model, cfg.policy))}
-                rows.append(row)
-                write_metrics(metrics_path, rows)
-                print(" ".join(f"{k}={v}" for k, v in row.items()), file=sys.stderr)
-            save_state(opt)
+        for epoch in range(self.state["epoch"], epochs):
+            losses, accs = self.epoch(stage, epoch, epochs, net, opt)
+            self.state.update(epoch=epoch + 1, batch=0)
+            self.log_epoch(stage, epoch, losses, accs)
+            self.save_state(opt)
         # free DDP's reducer now: left to reference cycles it outlives destroy_process_group, and
         # gloo's threads then abort the process at exit ("terminate called without an active
         # exception", seen in CI)
         del net, wrapper
         gc.collect()
-        if stage == "pretrain" and rank == 0:
-            stop_if_diverged(model, "the end of pre-training", ckpt_path, saved)
-            checkpoint.save(out / "pretrained.pt", {"model": model.state_dict(),
-                                                    "model_args": mcfg.to_dict(),
-                                                    "classes": list(train_ds.classes)})
-    if rank == 0:
-        stop_if_diverged(model, "the end", ckpt_path, saved)
-        checkpoint.save(out / "final.pt", {"model": model.state_dict(), "model_args": mcfg.to_dict(),
-                                           "classes": list(train_ds.classes), "config": asdict(cfg),
-                                           "elapsed": time.perf_counter() - start})
-    return model
+
+    def epoch(self, stage, epoch, epochs, net, opt):
+        cfg, s = self.cfg, STAGES.index(stage)
+        todo = batches(len(self.shapes), cfg.batch_size, cfg.seed, stage, epoch, self.rank, self.world)
+        bar = tqdm(range(self.state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
+                   disable=not self.progress or self.rank != 0, file=sys.stderr, leave=False)
+        losses, accs = [], []
+        for b in bar:
+            rng = np.random.default_rng([cfg.seed, s, epoch, b, self.rank])
+            torch.manual_seed(int(rng.integers(2 ** 31)))
+            loss, acc = self.batch_loss(stage, net, todo[b], rng)
+            where = f"{stage} epoch {epoch + 1}, batch {b + 1} (step {self.state['step'] + 1})"
+            checkpoint.stop_if_diverged(self.model, where, self.ckpt_path, self.saved, loss.item())
+            opt.zero_grad()
+            loss.backward()
+            opt.step()
+            losses.append(loss.item())
+            accs.append(acc.item())
+            bar.set_postfix(loss=f"{np.mean(losses[-20:]):.3f}", acc=f"{np.mean(accs[-20:]):.3f}")
+            self.state.update(batch=b + 1, step=self.state["step"] + 1)
+            if self.state["step"] % cfg.checkpoint_every == 0:
+                self.save_state(opt)
+        return losses, accs
+
+    def batch_loss(self, stage, net, idx, rng):
+        """(loss, accuracy) of one batch: single images of random views (pretrain) or whole
+        episodes from one of the 50 initial views (joint)."""
+        y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
+        cams = self.shapes.cameras(idx, self.augment, rng)
+        if stage == "joint":
+            return net(cams, geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))], y)
+        k = self.cfg.views_per_shape
+        views = [geometry.random_views(rng, k) for _ in cams]
+        depth = self.augment.images(torch.from_numpy(np.concatenate(
+            [c.render(v) for c, v in zip(cams, views)])))
+        views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=self.device)
+        return net(depth.to(self.device), y.repeat_interleave(k), views)
+
+    def log_epoch(self, stage, epoch, losses, accs):
+        if self.rank != 0:
+            return
+        row = {"stage": stage, "epoch": epoch + 1, "step": self.state["step"],
+               "wall_s": round(time.perf_counter() - self.start, 2),
+               "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
+               "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
+               **evaluate_accuracy(self.model, self.test, self.cfg.eval_shapes, seed=self.cfg.seed,
+                                   planner=own_planner(self.model, self.cfg.policy))}
+        self.rows.append(row)
+        write_metrics(self.metrics_path, self.rows)
+        print(" ".join(f"{k}={v}" for k, v in row.items()), file=sys.stderr)
+
+    def payload(self, **extra):
+        return {"model": self.model.state_dict(), "model_args": self.mcfg.to_dict(),
+                "classes": list(self.classes), **extra}
+
+    def save_state(self, opt):
+        if self.rank == 0:
+            checkpoint.stop_if_diverged(self.model, f"step {self.state['step']}", self.ckpt_path, self.saved)
+            checkpoint.save(self.ckpt_path, self.payload(
+                optimizer=opt.state_dict(), state=dict(self.state), config=asdict(self.cfg),
+                elapsed=time.perf_counter() - self.start))
+            self.saved = self.state["step"]
+
+    def save_pretrained(self):
+        if self.rank == 0:
+            checkpoint.stop_if_diverged(self.model, "the end of pre-training", self.ckpt_path, self.saved)
+            checkpoint.save(self.out / "pretrained.pt", self.payload())
+
+    def finish(self):
+        if self.rank == 0:
+            checkpoint.stop_if_diverged(self.model, "the end", self.ckpt_path, self.saved)
+            checkpoint.save(self.out / "final.pt", self.payload(
+                config=asdict(self.cfg), elapsed=time.perf_counter() - self.start))
+        return self.model

@@ -31,6 +31,14 @@ def atomic_path(path):
     return Path(tmp)
 
 
+def plt():
+    """matplotlib.pyplot on the Agg backend (no screen needed)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as pyplot
+    return pyplot
+
+
 def save_figure(fig, path, **kwargs):
     """Save a matplotlib figure as PNG with write-then-rename."""
     tmp = atomic_path(path)
@@ -71,3 +79,51 @@ def depth_grid(images, path, titles=None, columns=None, row_labels=None):
     fig.tight_layout()
     save_figure(fig, path, dpi=100)
     plt.close(fig)
+
+
+def render_mesh(mesh, out, views=0, theta=1.047, phi=0.524, size=64, radius=1.0, fov=None):
+    """Depth images of a mesh file as a PNG grid: `views` evenly spread views, or the one view
+    (theta, phi). -> (number of views, share of pixels that hit the mesh)."""
+    from . import geometry
+    from .depth_layer import CameraConfig, DepthCamera
+    from .meshes import load_mesh
+
+    cam = DepthCamera(*load_mesh(mesh), CameraConfig(height=size, width=size, radius=radius, fov=fov))
+    views = geometry.fibonacci_views(views) if views else np.array([[theta, phi]])
+    depth = cam.render(views)
+    depth_grid(depth, out, titles=[f"({t:.2f}, {p:.2f})" for t, p in views])
+    return len(views), float((depth < 255).mean())
+
+
+def readable_views(n):
+    """A few readable views: the first n of front, side, top, below, three-quarter."""
+    views = [(1.57, -1.57), (1.57, 0.0), (0.35, -1.57), (2.6, -1.2), (1.0, -0.8)]
+    return np.array(views[:n])
+
+
+def contact_sheet(name, root, splits, path, sheet_split="test", objects_per_class=2,
+                  views_per_object=3, seed=0):
+    """A row per class: objects_per_class test objects (train if the test split is empty), each
+    from views_per_object views; cells stay blank where a class has fewer objects. The twins:
+    each pair seen from a telling view and from one that is not."""
+    from .depth_layer import DepthCamera
+
+    if name == "twins":
+        from .datasets.twins import pair_sheet
+        images, labels, titles = pair_sheet(seed)
+        depth_grid(images.reshape(-1, *images.shape[2:]), path, columns=4,
+                   row_labels=labels, titles=titles * len(labels))
+        return
+    if sheet_split != "test":  # a generated benchmark's held-out styles
+        from .datasets import open_dataset
+        ds = open_dataset(name, root, sheet_split, cache_dir=splits["test"].cache_dir)
+    else:
+        ds = splits["test"] if len(splits["test"]) else splits["train"]
+    rng, views = np.random.default_rng(seed), readable_views(views_per_object)
+    images = []
+    for label in range(len(ds.classes)):
+        idx = np.flatnonzero(ds.labels() == label)
+        row = [img for i in rng.choice(idx, min(objects_per_class, len(idx)), replace=False)
+               for img in DepthCamera(*ds.mesh(i)).render(views)]
+        images += row + [None] * (objects_per_class * len(views) - len(row))
+    depth_grid(images, path, columns=objects_per_class * len(views), row_labels=ds.classes)

@@ -37,11 +37,11 @@ from common import emit
 
 from active_recognition import geometry
 from active_recognition.datasets import GENERATED, NAMES, default_cache_dir, open_dataset
+from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
-from active_recognition.evaluate import write_json
 from active_recognition.policies import nearest_candidates
+from active_recognition.report import write_json
 from active_recognition.shared_classifier import train_shared
-from active_recognition.train import Shapes
 from active_recognition.view_sets import (best_subset_accuracy, candidate_features, fixed_path,
                                           subset_logits)
 

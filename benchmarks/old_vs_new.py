@@ -30,11 +30,11 @@ from common import emit
 
 from active_recognition import checkpoint, geometry
 from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
 from active_recognition.episode import Episode, EpisodeConfig, run
-from active_recognition.evaluate import write_json
 from active_recognition.policies import make_planner
-from active_recognition.train import Shapes
+from active_recognition.report import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 OLD = "ac4cc15"  # the last commit with the box-and-cylinder generator and its shipped model

@@ -24,12 +24,13 @@ import argparse
 from pathlib import Path
 
 from common import emit
+from results_page import write_results_page
 
 from active_recognition import checkpoint
 from active_recognition.checkpoint import SHIPPED
-from active_recognition.evaluate import EvalConfig, evaluate, summary, write_json
-from active_recognition.report import training_time, write_results_page
-from active_recognition.train import read_metrics
+from active_recognition.evaluate import EvalConfig, evaluate, summary
+from active_recognition.report import write_json
+from active_recognition.run_metrics import read_metrics, training_time
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = SHIPPED.parent

@@ -24,9 +24,10 @@ from common import emit
 
 from active_recognition import depth_layer, geometry
 from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
+from active_recognition.losses import JointLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.train import JointLoss, Shapes
 
 CLOCK = {"render": 0.0}
 

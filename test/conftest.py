@@ -50,3 +50,14 @@ def tiny_tree(tmp_path_factory):
         for i in range(10):
             make(0.4 + 0.1 * i).export(root / c / f"{c}{i}.stl")
     return root
+
+
+def load_benchmark(name):
+    """A script of benchmarks/ as a module (they import their neighbours by plain name)."""
+    import sys
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parents[1] / "benchmarks"
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
+    return importlib.import_module(name)

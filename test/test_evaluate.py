@@ -19,11 +19,12 @@ import math
 import numpy as np
 import pytest
 import torch
+from conftest import load_benchmark
 
 from active_recognition import checkpoint
 from active_recognition.evaluate import EvalConfig, evaluate, summary
 from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.report import training_time
+from active_recognition.run_metrics import training_time
 from active_recognition.validation import InputError
 
 
@@ -129,7 +130,7 @@ def test_more_objects_than_the_split_holds_are_refused(results, tmp_path):
 
 
 def test_a_metrics_file_without_joint_rows_is_refused_by_name(tmp_path):
-    from active_recognition.report import load_run_metrics
+    from active_recognition.run_metrics import load_run_metrics
     good = "stage,epoch,wall_s,acc_3\npretrain,1,5.0,\njoint,1,9.5,0.75\n"
     (tmp_path / "good.csv").write_text(good)
     assert [r["acc_3"] for r in load_run_metrics(tmp_path / "good.csv")] == ["", "0.75"]
@@ -143,7 +144,7 @@ def test_a_metrics_file_without_joint_rows_is_refused_by_name(tmp_path):
 
 
 def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):
-    from active_recognition.report import write_results_page
+    write_results_page = load_benchmark("results_page").write_results_page
     res, cfg, _ = results
     s = summary(res)
     s["training_time"] = {"reinforce_best": 0.9, "learned_s": 10.0, "reinforce_s": 40.0, "ratio": 0.25}
@@ -192,7 +193,7 @@ def test_compare_runs_repeats_the_evaluation_on_the_same_episodes(results):
 
 
 def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):
-    from active_recognition.report import study_section
+    study_section = load_benchmark("results_page").study_section
     assert study_section(tmp_path / "missing.json", "S", "", []) == []
     acc = {"a": {"learned": [0.5, 0.9], "random": [0.5, 0.8], "straight": [0.5, 0.85]},
            "b": {"learned": [0.5, 0.7], "random": [0.5, 0.75], "straight": [0.5, 0.6]}}

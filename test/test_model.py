@@ -21,8 +21,8 @@ import trimesh
 
 from active_recognition.depth_layer import CameraConfig, DepthCamera, render_views
 from active_recognition.episode import Episode, EpisodeConfig, entropy, run
+from active_recognition.losses import JointLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.train import JointLoss
 from active_recognition.validation import InputError
 
 
@@ -139,7 +139,7 @@ def test_simulated_run_matches_manual_stepping():
 
 
 def test_step_weights_uniform_and_early():
-    from active_recognition.train import step_weights
+    from active_recognition.losses import step_weights
     torch.testing.assert_close(step_weights(4), torch.full((4,), 0.25))
     early = step_weights(4, "early")
     h4 = 1 + 1 / 2 + 1 / 3 + 1 / 4
@@ -147,7 +147,7 @@ def test_step_weights_uniform_and_early():
 
 
 def test_joint_loss_is_the_weighted_sum_of_the_per_step_losses():
-    from active_recognition.train import step_weights
+    from active_recognition.losses import step_weights
     cams, views, labels = tiny_batch()
     model = confident_model(0.3)
     with torch.no_grad():

@@ -26,10 +26,10 @@ from active_recognition.datasets import open_dataset
 from active_recognition.datasets.twins import CLASSES, PAIRS, make_shape
 from active_recognition.depth_layer import DepthCamera
 from active_recognition.episode import Episode, EpisodeConfig
+from active_recognition.losses import ImitationLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner
 from active_recognition.shared_classifier import MultiViewClassifier
-from active_recognition.train import ImitationLoss
 from active_recognition.view_sets import best_fixed_views, best_subset_accuracy, subset_logits
 
 
@@ -206,7 +206,7 @@ def test_imitation_targets_are_the_candidates_after_which_the_true_class_is_like
 
 
 def test_revisit_penalty_counts_close_pairs_and_pushes_views_apart():
-    from active_recognition.train import revisit_penalty
+    from active_recognition.losses import revisit_penalty
     far = torch.tensor([[[0.5, 0.0], [2.5, 3.0], [1.5, 1.5]]])
     assert float(revisit_penalty(far)) == 0.0  # every pair more than 30 degrees apart
     close = torch.tensor([[[1.0, 0.0], [1.0, 0.1], [2.5, 3.0]]], requires_grad=True)
@@ -248,7 +248,7 @@ def test_hybrid_adds_the_depth_layer_gradient_to_reinforce():
     sampled increments and the depth layer; with plain REINFORCE it does not at all, and the
     sampled views are the same either way."""
     from active_recognition.episode import run
-    from active_recognition.train import steps_loss
+    from active_recognition.losses import steps_loss
     ds = open_dataset("twins", split="test", per_class=1)
     cams = [DepthCamera(*ds.mesh(i)) for i in range(3)]
     views = geometry.fibonacci_views(50)[[3, 20, 41]]

@@ -23,10 +23,10 @@ import torch
 
 from active_recognition import checkpoint, geometry
 from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
 from active_recognition.episode import Episode, EpisodeConfig, run
 from active_recognition.policies import make_planner
-from active_recognition.train import Shapes
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 

@@ -42,4 +42,32 @@ def open_dataset(name, root=None, split="train", cache_dir=None, validate=True, 
     return ds.validate() if validate else ds
 
 
-__all__ = ["ShapeDataset", "open_dataset", "default_cache_dir", "NAMES"]
+def describe(name, root=None, cache_dir=None):
+    """Print a dataset's class counts per split and its skipped files (with why); warn of a class
+    a split lacks. -> {split: dataset}. InputError, saying what was looked for, when empty."""
+    import sys
+
+    splits = {s: open_dataset(name, root, s, cache_dir=cache_dir) for s in ("train", "test")}
+    classes = splits["train"].classes
+    width = max(len(c) for c in classes + ["class"])
+    print(f"{name}: {len(classes)} classes")
+    print(f"{'class':<{width}}  {'train':>6}  {'test':>6}")
+    counts = {s: ds.class_counts() for s, ds in splits.items()}
+    for i, c in enumerate(classes):
+        print(f"{c:<{width}}  {counts['train'][i]:>6}  {counts['test'][i]:>6}")
+    print(f"{'total':<{width}}  {len(splits['train']):>6}  {len(splits['test']):>6}")
+    skipped = splits["train"].skipped + splits["test"].skipped
+    print(f"skipped {len(skipped)} file(s)")
+    for path, reason in skipped:
+        print(f"  {path}: {reason}")
+    for s, ds in splits.items():
+        missing = [c for c, n in zip(classes, counts[s]) if n == 0]
+        if missing and len(ds):
+            print(f"warning: no {s} objects for class(es) {', '.join(missing)}", file=sys.stderr)
+    if not len(splits["train"]) and not len(splits["test"]):  # say what was looked for
+        splits["test"].skipped = skipped
+        splits["test"].require_objects("objects (train or test)")
+    return splits
+
+
+__all__ = ["ShapeDataset", "open_dataset", "default_cache_dir", "describe", "NAMES"]

@@ -1,0 +1,165 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The training losses: stage 1 pre-trains the classifier on single images (PretrainLoss); stage 2
+runs whole episodes (JointLoss: end to end through the depth layer, the paper's; ReinforceLoss:
+MV-RNN's way; ImitationLoss: FC_view learns the oracle's choice, with the oracle's targets).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import torch
+from torch import nn
+
+from . import geometry
+from .episode import Episode, EpisodeConfig, run
+from .policies import lookahead_logits, visited_mask
+
+
+def step_weights(steps, weighting="uniform"):
+    """Weights of the per-step losses, summing to 1: uniform (the paper) or early (1/t, t = 1..T),
+    which favours recognising after few views."""
+    w = torch.ones(steps) if weighting == "uniform" else 1.0 / torch.arange(1, steps + 1)
+    return w / w.sum()
+
+
+def steps_loss(out, labels, weights):
+    """The episode's loss: per-step cross-entropies, weighted (weights from step_weights)."""
+    return sum(w * nn.functional.cross_entropy(s.logits, labels) for w, s in zip(weights, out))
+
+
+class PretrainLoss(nn.Module):
+    """The shape classifier on single images (wrapped whole by DDP: one forward per backward)."""
+
+    def __init__(self, model):
+        super().__init__()
+        self.model = model
+
+    def forward(self, depth, labels, views=None):
+        logits = self.model.classify_image(depth, views)
+        return nn.functional.cross_entropy(logits, labels), (logits.argmax(1) == labels).float().mean()
+
+
+class JointLoss(nn.Module):
+    """A whole batch of episodes, rendered through the differentiable depth layer."""
+
+    def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0,
+                 corrupt=None):
+        super().__init__()
+        self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
+        self.weights = step_weights(steps, weighting).tolist()
+        self.revisit, self.corrupt = revisit, corrupt
+
+    def forward(self, cameras, views, labels):
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
+        out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
+        loss = steps_loss(out, labels, self.weights)
+        if self.revisit:
+            loss = loss + self.revisit * revisit_penalty(torch.stack(ep.views[:self.steps], 1))
+        return loss, (out[-1].logits.argmax(1) == labels).float().mean()
+
+
+def revisit_penalty(views, within=math.radians(30)):
+    """VERAM's penalty on looking again where one has looked: for every view (B, T, 2) and each
+    earlier one, how far the cosine of the angle between them exceeds cos(`within`), averaged.
+    Differentiable in the views, so it pushes FC_loc's increments apart."""
+    pos = geometry.unit_position(views)                                         # (B, T, 3)
+    cos = pos @ pos.transpose(1, 2)                                              # (B, T, T)
+    earlier = torch.ones_like(cos[0]).tril(-1).bool()
+    return torch.relu(cos[:, earlier] - math.cos(within)).sum(1).mean()
+
+
+class ReinforceLoss(nn.Module):
+    """MV-RNN-style baseline: a Gaussian view policy trained with REINFORCE and a baseline.
+
+    No gradient crosses the depth layer; the reward is a correct final prediction plus the
+    entropy decrease over the episode (in units of log C); the baseline is a running mean.
+    With `rule` (the hybrid policy) the renders are differentiable too: FC_loc learns from the
+    depth layer's view gradient (through the sampled increments) and from REINFORCE at once.
+    """
+
+    def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9,
+                 rule=None, reduction="mean", corrupt=None):
+        super().__init__()
+        self.model, self.steps, self.std, self.corrupt = model, steps, std, corrupt
+        self.rule, self.reduction = rule, reduction
+        self.weights = step_weights(steps, weighting).tolist()
+        self.entropy_weight, self.momentum = entropy_weight, momentum
+        self.register_buffer("baseline", torch.zeros(()))
+
+    def forward(self, cameras, views, labels):
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
+                     exploration_std=self.std, explore_through=self.rule is not None)
+        out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
+        ce = steps_loss(out, labels, self.weights)
+        correct = (out[-1].logits.argmax(1) == labels).float()
+        gain = torch.stack(ep.info_gain).sum(0) / math.log(out[-1].logits.shape[1])
+        reward = correct + self.entropy_weight * gain
+        advantage = reward - self.baseline
+        with torch.no_grad():
+            self.baseline.mul_(self.momentum).add_((1 - self.momentum) * reward.mean())
+        policy = -(advantage.detach() * torch.stack(ep.log_probs).sum(0)).mean()
+        return ce + policy, correct.mean()
+
+
+class ImitationLoss(nn.Module):
+    """FC_view imitates the oracle, DAgger-style; the classifier learns on the states visited.
+
+    At every step the oracle tries each candidate view of each object with the current model
+    and picks the one after which the true class is most probable (privileged, training only).
+    FC_view is trained to pick it (cross-entropy over the candidates not yet visited). The next
+    view is the oracle's with probability `mix`, else FC_view's, so FC_view also learns from
+    states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
+    """
+
+    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None):
+        super().__init__()
+        self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
+        self.weights = step_weights(steps, weighting).tolist()
+        self.candidates = geometry.fibonacci_views(model.config.candidates)
+
+    def oracle_targets(self, cand_features, hidden, labels, visited):
+        """(B,) index of the best unvisited candidate for each object, by true-class loss."""
+        with torch.no_grad():
+            logits = lookahead_logits(self.model, cand_features, hidden, self.candidates)
+            loss = nn.functional.cross_entropy(logits.transpose(1, 2), labels[:, None].expand(
+                -1, logits.shape[1]), reduction="none")                              # (B, K)
+            loss[torch.as_tensor(visited, device=loss.device)] = float("inf")
+            return loss.argmin(1)
+
+    def forward(self, cameras, views, labels):
+        model, k = self.model, len(self.candidates)
+        with torch.no_grad():
+            depth = np.stack([c.render(self.candidates) for c in cameras])          # (B, K, H, W)
+            depth = self.corrupt(torch.from_numpy(depth))
+            feats = model.features(depth.flatten(0, 1).to(labels.device))
+        self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
+        ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
+                     planner=self)
+        out = run(ep, cameras, views, self.steps, corrupt=self.corrupt)  # plain renders
+        loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
+        return loss, (out[-1].logits.argmax(1) == labels).float().mean()
+
+    def next_view(self, episode, step):
+        """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
+        visited = visited_mask(episode, self.candidates)
+        target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
+        scores = self.model.score_views(episode.hidden)
+        masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
+        self.head_losses.append(nn.functional.cross_entropy(masked, target))
+        follow = torch.rand(len(target), device=target.device) < self.mix
+        choice = torch.where(follow, target, masked.detach().argmax(1))
+        return self.candidates[choice.cpu().numpy()]

@@ -1,0 +1,220 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The rules of the house: no import circle, small files, and every published figure backed by a
+committed benchmark output (docs/results/)."""
+import ast
+import csv
+import json
+import re
+from pathlib import Path
+
+from conftest import load_benchmark
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("active_recognition", "msg_adapters")
+MAX_LINES = 400
+
+
+def module_name(path, root):
+    parts = list(path.relative_to(root).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def import_graph(root, packages=PACKAGES):
+    """{module: set of the package modules it imports}, every import in the file counted (a
+    lazy import inside a function closes a circle as surely as one at the top)."""
+    files = {module_name(p, root): p for pkg in packages for p in (root / pkg).rglob("*.py")}
+    graph = {}
+    for name, path in files.items():
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        edges = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = package.split(".")
+                base = base[:len(base) - node.level + 1] if node.level else []
+                mod = ".".join(base + ([node.module] if node.module else []))
+                targets = [f"{mod}.{a.name}" if f"{mod}.{a.name}" in files else mod
+                           for a in node.names]
+            else:
+                continue
+            edges.update(t for t in targets if t in files and t != name)
+        graph[name] = edges
+    return graph
+
+
+def cycles(graph):
+    """Each import circle once, as a list of modules (Tarjan's strongly connected components)."""
+    index, low, stack, on, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_the_cycle_finder_sees_a_lazy_circle(tmp_path):
+    pkg = tmp_path / "pkg"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("from .b import f\n")
+    (pkg / "b.py").write_text("def f():\n    from . import a\n")
+    (pkg / "c.py").write_text("from pkg.a import f\n")
+    graph = import_graph(tmp_path, ("pkg",))
+    assert graph["pkg.c"] == {"pkg.a"}
+    assert cycles(graph) == [["pkg.a", "pkg.b"]]
+
+
+def test_no_import_circle():
+    graph = import_graph(ROOT)
+    assert "active_recognition.evaluate" in graph and graph["active_recognition.train"]
+    assert cycles(graph) == []
+
+
+def test_no_module_over_400_lines():
+    long = {str(p.relative_to(ROOT)): n for p in (ROOT / "active_recognition").rglob("*.py")
+            if (n := len(p.read_text().splitlines())) > MAX_LINES}
+    assert long == {}, f"over {MAX_LINES} lines (two jobs in one file?): {long}"
+
+
+def test_the_core_never_imports_rclpy():
+    graph_files = [p for p in (ROOT / "active_recognition").rglob("*.py") if "nodes" not in p.parts]
+    users = [str(p.relative_to(ROOT)) for p in graph_files if re.search(
+        r"^\s*(import|from) rclpy", p.read_text(), re.M)]
+    assert users == []
+
+
+def test_results_page_is_what_the_committed_output_renders(tmp_path):
+    load_benchmark("results_page").write_results_page(tmp_path / "RESULTS.md", ROOT / "docs/results")
+    assert (tmp_path / "RESULTS.md").read_text() == (ROOT / "docs/RESULTS.md").read_text(), \
+        "docs/RESULTS.md is stale: python benchmarks/results_page.py"
+
+
+# A figure: a number followed by % or points, or any number with a decimal point, in the prose
+# and tables of a page (not in code, where settings and commands are written, and not after a
+# <!-- marker -->, whose figure a test of its own measures).
+FIGURE = re.compile(r"(?<![\w.])(?<![A-Za-z]-)([-+]?\d+(?:,\d{3})*(?:\.\d+)?)(?=\s?%|\s(?:points?)\b)"
+                    r"|(?<![\w.])(?<![A-Za-z]-)([-+]?\d+\.\d+)(?![\w.])")
+SOURCE = re.compile(r"docs/results/[\w./-]+\.(?:json|csv)")
+SETTINGS = {"24.04"}  # Ubuntu's release, not a measurement
+
+
+def prose(block):
+    block = re.sub(r"`[^`\n]*`", "", block)
+    return re.sub(r"<!--.*?-->\s*\S+", "", block)
+
+
+def blocks(text):
+    """The page's paragraphs and tables, code blocks left out."""
+    text = re.sub(r"```.*?```", "", text, flags=re.S)
+    return [b for b in re.split(r"\n\s*\n", text) if b.strip()]
+
+
+def file_numbers(path):
+    """Every number in a committed JSON or CSV output."""
+    if path.suffix == ".json":
+        def walk(obj):
+            if isinstance(obj, dict):
+                obj = list(obj.values())
+            if isinstance(obj, list):
+                return [x for o in obj for x in walk(o)]
+            return [] if isinstance(obj, bool) or not isinstance(obj, (int, float)) else [obj]
+        return walk(json.loads(path.read_text()))
+    values = []
+    for row in csv.reader(path.open()):
+        for cell in row:
+            try:
+                values.append(float(cell))
+            except ValueError:
+                pass
+    return values
+
+
+def written_as(token, values):
+    """Whether `token` (as printed) is one of `values`, as a fraction or in per cent, rounded to
+    the token's decimals; the sign is the prose's own."""
+    token = token.lstrip("+-").replace(",", "")
+    decimals = len(token.partition(".")[2])
+    return any(f"{abs(x):.{decimals}f}" == token for v in values for x in (v, 100 * v))
+
+
+def unbacked(text, root=ROOT):
+    """(figure, why) for every figure of a page that its paragraph's sources do not hold. A
+    paragraph names its sources (docs/results/....json or .csv); a table takes those of the
+    paragraph before it too."""
+    problems, previous = [], []
+    for block in blocks(text):
+        sources = SOURCE.findall(block) + (previous if block.lstrip().startswith("|") else [])
+        previous = SOURCE.findall(block)
+        values = [v for s in sources if (root / s).is_file() for v in file_numbers(root / s)]
+        for m in FIGURE.finditer(prose(block)):
+            token = m.group(1) or m.group(2)
+            if token in SETTINGS:
+                continue
+            if not sources:
+                problems.append((token, f"no docs/results source named near: {block[:70]!r}"))
+            elif not written_as(token, values):
+                problems.append((token, f"not in {', '.join(sources)}"))
+    return problems
+
+
+def test_the_figure_check_catches_a_figure_without_its_output(tmp_path):
+    (tmp_path / "docs/results").mkdir(parents=True)
+    (tmp_path / "docs/results/a.json").write_text(json.dumps({"acc": {"x": 0.8812}, "n": 500}))
+    page = ("Scores 88.1 % on 500 objects (docs/results/a.json).\n\n"
+            "| planner | acc |\n|---|---|\n| x | 88.1 |\n\n"
+            "It scored 77.0 % once.\n\nA setting in code: `radius 1.5`.\n\n"
+            "Stale: 88.2 % (docs/results/a.json).\n\nGone: 12.5 points (docs/results/gone.json).\n")
+    assert unbacked(page, tmp_path) == [
+        ("77.0", "no docs/results source named near: 'It scored 77.0 % once.'"),
+        ("88.2", "not in docs/results/a.json"),
+        ("12.5", "not in docs/results/gone.json")]
+
+
+def test_every_readme_figure_comes_from_a_committed_output():
+    problems = unbacked((ROOT / "README.md").read_text())
+    assert problems == [], "README figures without a committed output behind them:\n" + "\n".join(
+        f"  {t}: {why}" for t, why in problems)
+
+
+def test_readme_counts_the_held_out_styles_as_the_code_does():
+    from active_recognition.datasets import furniture
+
+    held = sum(len(furniture.styles(name, True)) for name in furniture.FACTORS)
+    every = held + sum(len(furniture.styles(name, False)) for name in furniture.FACTORS)
+    text = " ".join((ROOT / "README.md").read_text().split())
+    assert f"Some combinations of every class ({held} of {every}) are held out" in text
