@@ -157,7 +157,7 @@ def add_train(sub):
     p.add_argument("--gradient-reduction", dest="gradient_reduction", choices=("mean", "sum"),
                    help="how per-pixel view gradients are reduced")
     p.add_argument("--eval-shapes", dest="eval_shapes", type=own("eval_shapes"),
-                   help="test shapes scored per epoch")
+                   help="validation shapes scored per epoch (metrics.csv)")
     p.add_argument("--checkpoint-every", dest="checkpoint_every", type=own("checkpoint_every"),
                    help="write last.pt every N batches")
     p.add_argument("--max-shapes", dest="max_shapes", type=own("max_shapes"),
@@ -259,8 +259,9 @@ def add_evaluate(sub):
                    help=f"comma-separated, from {','.join(PLANNERS)}")
     p.add_argument("--dataset", choices=NAMES, default="procedural", help="dataset layout")
     p.add_argument("--root", default=None, help="dataset root folder")
-    p.add_argument("--split", default="test", choices=("train", "test", "cross"),
-                   help="which split (cross: a generated benchmark's held-out styles)")
+    p.add_argument("--split", default="test", choices=("train", "val", "test", "cross"),
+                   help="which split (val: a seeded tenth of each class of train, where choices "
+                        "are made; cross: a generated benchmark's held-out styles)")
     p.add_argument("--objects", type=own("objects"), default=0,
                    help="seeded sample of objects (0: all)")
     p.add_argument("--starts", type=own("starts"), default=1,

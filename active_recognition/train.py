@@ -76,7 +76,7 @@ class TrainConfig:
     initial_step: list | None = option(None, kind=list, optional=True, length=(2, 2),
                                        items=Check(float))
     gradient_reduction: str = option("mean", choices=("mean", "sum"))
-    eval_shapes: int = option(200, lo=0)        # test shapes scored after each epoch (0: none)
+    eval_shapes: int = option(200, lo=0)        # validation shapes scored after each epoch (0: none)
     checkpoint_every: int = option(50, lo=1)    # batches
     seed: int = option(0, lo=0, hi=SEED_MAX)
     device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N")
@@ -215,7 +215,7 @@ class Trainer:
         self.mcfg = ModelConfig(**{"num_classes": len(self.classes), **cfg.model})
         self.model = RecurrentAttention(self.mcfg).to(self.device)
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
-        self.shapes, self.test = Shapes(self.train_ds, camera), Shapes(self.test_ds, camera)
+        self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
         self.augment = cfg.augment()
         self.corrupt = self.augment.images if self.augment.dropout > 0 else None
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
@@ -237,7 +237,8 @@ class Trainer:
         if len(self.classes) < 2:
             raise InputError(f"{self.train_ds.layout or cfg.dataset}: {len(self.classes)} class "
                              f"{self.classes}; recognising needs at least 2")
-        self.test_ds = open_dataset(cfg.dataset, cfg.root, "test", cache_dir=cache)
+        # per-epoch figures on the validation split; the test split stays unread until the end
+        self.val_ds = open_dataset(cfg.dataset, cfg.root, "val", cache_dir=cache)
         if cfg.max_shapes:  # a seeded subset with every class in it
             n = len(self.train_ds)
             self.train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(n)[:cfg.max_shapes]))
@@ -347,7 +348,7 @@ class Trainer:
                "wall_s": round(time.perf_counter() - self.start, 2),
                "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
                "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
-               **evaluate_accuracy(self.model, self.test, self.cfg.eval_shapes, seed=self.cfg.seed,
+               **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes, seed=self.cfg.seed,
                                    planner=own_planner(self.model, self.cfg.policy))}
         self.rows.append(row)
         write_metrics(self.metrics_path, self.rows)

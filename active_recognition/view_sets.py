@@ -77,12 +77,13 @@ def best_subset_accuracy(net, features, labels, size=3):
     return float(np.mean(hits))
 
 
-def fixed_path(net, train_shapes, candidates=50, objects=400, seed=0):
-    """The best fixed path on (a seeded sample of) the training split: the two candidate views
-    (theta, phi), (2, 2), that the shared classifier scores best after a random first view."""
+def fixed_path(net, shapes, candidates=50, objects=400, seed=0):
+    """The best fixed path on (a seeded sample of) `shapes`, the validation split: the two
+    candidate views (theta, phi), (2, 2), that the shared classifier scores best after a random
+    first view. -> (path, its accuracy there)."""
     views = geometry.fibonacci_views(candidates)
     rng = np.random.default_rng(seed)
-    idx = np.sort(rng.permutation(len(train_shapes))[:objects])
-    feats = candidate_features(net, train_shapes, idx, views)
-    pair, acc = best_fixed_views(net, feats, train_shapes.labels[idx])
+    idx = np.sort(rng.permutation(len(shapes))[:objects])
+    feats = candidate_features(net, shapes, idx, views)
+    pair, acc = best_fixed_views(net, feats, shapes.labels[idx])
     return views[pair], acc

@@ -21,7 +21,7 @@ acc_3_random      three random views
 acc_3_best        the best 3 of the 50 views for each object, chosen with the true label
                   (a privileged ceiling)
 acc_3_best_fixed  a random first view plus the two views, the same for every object and fixed in
-                  the object frame, that score best on the train split (the best fixed path)
+                  the object frame, that score best on the validation split (the best fixed path)
 acc_9_views       nine evenly spread views
 cross_*           on a generated benchmark, one and three random views of the cross split (the
                   held-out styles, which the classifier never saw): the in-style minus cross-style
@@ -73,6 +73,7 @@ def main():
     cam = CameraConfig(64, 64)
     cache = default_cache_dir()
     train = Shapes(open_dataset(args.dataset, args.root, "train", cache_dir=cache), cam)
+    val = Shapes(open_dataset(args.dataset, args.root, "val", cache_dir=cache), cam)
     test = Shapes(open_dataset(args.dataset, args.root, "test", cache_dir=cache), cam)
     net = train_shared(train, len(train.ds.classes), epochs=args.epochs, seed=args.seed)
     print(f"classifier trained in {time.perf_counter() - t0:.0f} s")
@@ -87,12 +88,12 @@ def main():
         _, acc3_random = random_views_accuracy(net, test, idx, rng)
         nine = candidate_features(net, test, idx, geometry.fibonacci_views(9))
         acc9 = accuracy(net.classify(nine.amax(1)), labels)
-        fixed, train_acc = fixed_path(net, train, seed=args.seed)
+        fixed, val_acc = fixed_path(net, val, seed=args.seed)
         pair = nearest_candidates(fixed, candidates).tolist()
         sets = np.array([[first] + pair for first in range(50)])
         acc3_fixed = accuracy(subset_logits(net, feats, sets), labels[:, None])
     acc3_best = best_subset_accuracy(net, feats, labels, 3)
-    print(f"fixed path: views {np.round(fixed, 3).tolist()} (train accuracy {train_acc:.3f})")
+    print(f"fixed path: views {np.round(fixed, 3).tolist()} (validation accuracy {val_acc:.3f})")
     result = {"dataset": args.dataset, "acc_1_view": acc1, "acc_3_random": acc3_random,
               "acc_3_best": acc3_best, "acc_3_best_fixed": acc3_fixed, "acc_9_views": acc9,
               "headroom_best_vs_random": acc3_best - acc3_random,

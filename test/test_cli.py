@@ -142,8 +142,8 @@ def test_dataset_reports_a_class_missing_from_a_split_as_zero(files, tmp_path, c
                             cache, "--contact-sheet", sheet, "--objects-per-class", 3], capsys)
     assert status == 0, err
     rows = [line.split() for line in out.splitlines()]
-    assert ["chair", "1", "1"] in rows and ["lamp", "0", "1"] in rows
-    assert ["total", "1", "2"] in rows
+    assert ["chair", "1", "0", "1"] in rows and ["lamp", "0", "0", "1"] in rows  # train, val, test
+    assert ["total", "1", "0", "2"] in rows
     assert "warning: no train objects for class(es) lamp" in err
     assert sheet.stat().st_size > 0 and len(list((cache / "meshes").glob("*.npz"))) == 3
 
@@ -328,7 +328,7 @@ def test_train_refuses(files, capsys, argv, message):
     (["--learned-metrics", ""], "--learned-metrics and --reinforce-metrics go together"),
     (["--learned-metrics", "", "--reinforce-metrics", ""], "metrics: empty path"),
     (["--out", "{files}/a_file"], "out {files}/a_file: exists and is not a directory"),
-    (["--split", "val"], "argument --split: invalid choice: 'val'"),
+    (["--split", "dev"], "argument --split: invalid choice: 'dev'"),
 ])
 def test_evaluate_refuses_before_any_work(files, trained, tiny_tree, capsys, argv, message):
     fill = {"files": files, "shipped": checkpoint.shipped("procedural")}

@@ -115,7 +115,7 @@ def test_bad_training_options_are_named(values, message):
     (EvalConfig, {"planners": ("psychic",)}, r"planners\[0\] must be one of learned, random"),
     (EvalConfig, {"planners": ()}, "planners must be a list of 1 or more"),
     (EvalConfig, {"planners": ("random", "random")}, "random named more than once"),
-    (EvalConfig, {"split": "val"}, "split must be one of train, test, cross, got 'val'"),
+    (EvalConfig, {"split": "dev"}, "split must be one of train, val, test, cross, got 'dev'"),
     (EpisodeConfig, {"max_views": 0}, "max_views must be an integer from 1 to 1000, got 0"),
     (SensingConfig, {"box_margin": 2}, r"box_margin must be a finite number in \[0, 1\], got 2"),
     (SensorConfig, {"noise": "pink"}, "camera noise must be one of none, kinect, got 'pink'"),

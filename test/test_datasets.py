@@ -175,10 +175,10 @@ def test_shapenet_tree_uses_taxonomy_and_a_stable_split(tmp_path):
             box.export(d / "model_normalized.obj")
     (tmp_path / "taxonomy.json").write_text(json.dumps(
         [{"synsetId": "03001627", "name": "chair,seat"}, {"synsetId": "04379243", "name": "table"}]))
-    train, test = (open_dataset("shapenet", tmp_path, s) for s in ("train", "test"))
+    train, val, test = (open_dataset("shapenet", tmp_path, s) for s in ("train", "val", "test"))
     assert train.classes == ["chair", "table"]
-    assert len(train) + len(test) == 20 and len(test) > 0
-    assert not {str(p) for p, _ in train.items} & {str(p) for p, _ in test.items}
+    assert len(train) + len(val) + len(test) == 20 and len(test) > 0
+    assert not {str(p) for p, _ in train.items + val.items} & {str(p) for p, _ in test.items}
     again = open_dataset("shapenet", tmp_path, "test")
     assert [str(p) for p, _ in again.items] == [str(p) for p, _ in test.items]
 
@@ -189,8 +189,8 @@ def test_folder_layout(tmp_path):
         for i in range(6):
             trimesh.creation.box(extents=(1, i + 1, 1)).export(tmp_path / c / f"{i}.stl")
         (tmp_path / c / "notes.txt").write_text("not a mesh")
-    train, test = (open_dataset("folder", tmp_path, s) for s in ("train", "test"))
-    assert train.classes == ["a", "b"] and len(train) + len(test) == 12
+    train, val, test = (open_dataset("folder", tmp_path, s) for s in ("train", "val", "test"))
+    assert train.classes == ["a", "b"] and len(train) + len(val) + len(test) == 12
 
 
 def test_unknown_dataset_and_missing_root_are_clear_errors(tmp_path):
@@ -288,3 +288,40 @@ def test_every_leg_stands_on_the_floor_and_reaches_its_height(kind):
     top = m.vertices[m.vertices[:, 2] > 0.69]
     np.testing.assert_allclose(top[:, :2].mean(0), (0.3, -0.2), atol=0.02)
     assert place(leg(kind, (0, 0), 1, 0.1, Style()), (0, 0, 0), axis=0).volume > 0
+
+
+def test_the_validation_split_is_a_seeded_tenth_of_each_class_of_train(tmp_path):
+    from active_recognition.datasets import validation_split
+    from active_recognition.datasets.modelnet import modelnet
+
+    for c, n in (("chair", 30), ("desk", 14), ("lamp", 4)):
+        (tmp_path / c / "train").mkdir(parents=True)
+        for i in range(n):
+            write_off(tmp_path / c / "train" / f"{c}_{i:02d}.off", np.array(CUBE_V) * (1 + i / n),
+                      CUBE_QUADS)
+    val = open_dataset("modelnet", tmp_path, "val", cache_dir=tmp_path / "c")
+    train = open_dataset("modelnet", tmp_path, "train", cache_dir=tmp_path / "c")
+    assert (val.split, train.split) == ("val", "train")
+    assert list(val.class_counts()) == [3, 1, 0]  # round(10 %): 3 of 30, 1 of 14, none of 4
+    assert list(train.class_counts()) == [27, 13, 4]
+    names = {s: {str(p) for p, _ in ds.items} for s, ds in (("val", val), ("train", train))}
+    assert not names["val"] & names["train"]
+    whole = {str(p) for p, _ in modelnet(tmp_path, "train").items}  # the official split
+    assert names["val"] | names["train"] == whole and len(whole) == 48
+    again = open_dataset("modelnet", tmp_path, "val", cache_dir=tmp_path / "c")
+    assert [str(p) for p, _ in again.items] == [str(p) for p, _ in val.items]  # seeded
+    other = validation_split(modelnet(tmp_path, "train"), "val", seed=1)
+    assert {str(p) for p, _ in other.items} != names["val"]
+    for p, label in val.items:  # labels follow the files
+        assert val.classes[label] == p.parent.parent.name
+
+
+def test_generated_benchmarks_have_a_validation_split_and_file_ones_no_cross(tmp_path):
+    val = open_dataset("procedural", split="val", cache_dir=tmp_path, per_class=20)
+    train = open_dataset("procedural", split="train", cache_dir=tmp_path, per_class=20)
+    assert set(val.class_counts()) == {2} and set(train.class_counts()) == {18}
+    with pytest.raises(InputError, match="split must be one of train, val, test, cross, got 'dev'"):
+        open_dataset("procedural", split="dev", cache_dir=tmp_path)
+    (tmp_path / "m" / "chair" / "test").mkdir(parents=True)
+    with pytest.raises(InputError, match="the cross split .* modelnet has train, val and test"):
+        open_dataset("modelnet", tmp_path / "m", "cross")

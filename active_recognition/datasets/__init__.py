@@ -16,6 +16,8 @@
 (procedural, twins)."""
 from __future__ import annotations
 
+import numpy as np
+
 from .base import ShapeDataset, default_cache_dir
 from .folder import folder
 from .modelnet import modelnet
@@ -28,18 +30,49 @@ NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
 GENERATED = {"procedural": procedural, "twins": twins}
 
 
+SPLITS = ("train", "val", "test", "cross")  # cross: a generated benchmark's held-out styles
+VAL_FRACTION, VAL_SEED = 0.1, 0  # the validation split: a seeded tenth of each class of train
+
+
 def open_dataset(name, root=None, split="train", cache_dir=None, validate=True, **kwargs):
-    """Open a split of a dataset by name; file datasets are validated (bad files skipped)."""
+    """Open a split of a dataset by name; file datasets are validated (bad files skipped).
+
+    `train` is the dataset's training split less `val`, a seeded VAL_FRACTION of each class of
+    it (validation_split): every choice (epoch, settings, fixed path, default planner) is made
+    on `val`, and `test` is read only for the final tables."""
+    if split not in SPLITS:
+        raise InputError(f"split must be one of {', '.join(SPLITS)}, got {split!r}")
+    source = "train" if split in ("train", "val") else split
     if name in GENERATED:
         if root:
             raise InputError(f"the {name} dataset is generated: it takes no root folder "
                              f"(got {root}); roots are for modelnet, shapenet and folder")
-        return GENERATED[name](split, cache_dir=cache_dir, **kwargs)
-    loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
-    if name not in loaders:
-        raise InputError(f"dataset must be one of {', '.join(NAMES)}, got {name!r}")
-    ds = loaders[name](root, split, cache_dir=cache_dir, **kwargs)
-    return ds.validate() if validate else ds
+        ds = GENERATED[name](source, cache_dir=cache_dir, **kwargs)
+    else:
+        loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
+        if name not in loaders:
+            raise InputError(f"dataset must be one of {', '.join(NAMES)}, got {name!r}")
+        if split == "cross":
+            raise InputError(f"the cross split (held-out styles) is a generated benchmark's; "
+                             f"{name} has train, val and test")
+        ds = loaders[name](root, source, cache_dir=cache_dir, **kwargs)
+        ds = ds.validate() if validate else ds
+    return validation_split(ds, split) if source == "train" else ds
+
+
+def validation_split(ds: ShapeDataset, split, fraction=VAL_FRACTION, seed=VAL_SEED):
+    """The `val` or the `train` part of a training split `ds`: `val` holds a seeded `fraction`
+    of each class (rounded: none of a class of fewer than 5), `train` the rest, both in the
+    split's order."""
+    labels = ds.labels()
+    held = np.zeros(len(ds), dtype=bool)
+    for label in np.unique(labels):
+        idx = np.flatnonzero(labels == label)
+        n = round(fraction * len(idx))
+        held[np.random.default_rng([seed, int(label)]).choice(idx, n, replace=False)] = True
+    ds.keep(np.flatnonzero(held if split == "val" else ~held))
+    ds.split = split
+    return ds
 
 
 def describe(name, root=None, cache_dir=None):
@@ -47,15 +80,15 @@ def describe(name, root=None, cache_dir=None):
     a split lacks. -> {split: dataset}. InputError, saying what was looked for, when empty."""
     import sys
 
-    splits = {s: open_dataset(name, root, s, cache_dir=cache_dir) for s in ("train", "test")}
+    splits = {s: open_dataset(name, root, s, cache_dir=cache_dir) for s in ("train", "val", "test")}
     classes = splits["train"].classes
     width = max(len(c) for c in classes + ["class"])
     print(f"{name}: {len(classes)} classes")
-    print(f"{'class':<{width}}  {'train':>6}  {'test':>6}")
+    print(f"{'class':<{width}}" + "".join(f"  {s:>6}" for s in splits))
     counts = {s: ds.class_counts() for s, ds in splits.items()}
     for i, c in enumerate(classes):
-        print(f"{c:<{width}}  {counts['train'][i]:>6}  {counts['test'][i]:>6}")
-    print(f"{'total':<{width}}  {len(splits['train']):>6}  {len(splits['test']):>6}")
+        print(f"{c:<{width}}" + "".join(f"  {counts[s][i]:>6}" for s in splits))
+    print(f"{'total':<{width}}" + "".join(f"  {len(ds):>6}" for ds in splits.values()))
     skipped = splits["train"].skipped + splits["test"].skipped
     print(f"skipped {len(skipped)} file(s)")
     for path, reason in skipped:
@@ -70,4 +103,5 @@ def describe(name, root=None, cache_dir=None):
     return splits
 
 
-__all__ = ["ShapeDataset", "open_dataset", "default_cache_dir", "describe", "NAMES"]
+__all__ = ["ShapeDataset", "open_dataset", "validation_split", "default_cache_dir", "describe",
+           "NAMES", "SPLITS"]
