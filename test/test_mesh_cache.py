@@ -14,7 +14,9 @@
 
 """The conversion cache of file datasets: each mesh file parsed once, changed files read again,
 unusable files remembered with their reasons, entries written whole or not at all."""
+import json
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +24,7 @@ import pytest
 from active_recognition import meshes
 from active_recognition.datasets import base, default_cache_dir, open_dataset
 
+ROOT = Path(__file__).resolve().parents[1]
 TRI_V = [(0, 0, 0), (2, 0, 0), (0, 3, 0), (0, 0, 1)]
 TRI_F = [(3, 0, 1, 2), (3, 0, 1, 3), (3, 0, 2, 3), (3, 1, 2, 3)]
 CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
@@ -183,3 +186,19 @@ def test_the_triangle_block_and_the_polygon_walk_parse_alike():
                                       (6, 8, 9), tris[1]])
     with pytest.raises(ValueError, match="face with 3 corners"):  # the last one cut short
         meshes.parse_off(off_text(verts, polys)[:-1].rsplit(" ", 2)[0])
+
+
+def test_the_readme_gives_the_committed_modelnet10_load_figures():
+    """The README's load times and memory are those of docs/results/modelnet10/loading.json."""
+    fig = json.loads((ROOT / "docs" / "results" / "modelnet10" / "loading.json").read_text())
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    files = fig["train"]["files"] + fig["test"]["files"]
+    skipped = sum(sum(fig[s]["skipped"].values()) for s in ("train", "test"))
+    expected = [f"all {files:,} files load" if not skipped else f"{skipped} skipped",
+                f"{fig['cold_s']:.1f} s the first time ({fig['cold_cpu_s']:.1f} s of CPU",
+                f"{fig['cache_mb']:.0f} MiB cache), {fig['warm_s']:.1f} s from the cache",
+                f"({fig['rss_meshes_mb']:.0f} MiB resident",
+                f"({fig['rss_train_scenes_mb']:.0f} MiB more for the {fig['train']['loaded']:,} "
+                f"scenes, built in {fig['scenes_build_s']:.0f} s)"]
+    for text in expected:
+        assert text in readme, text
