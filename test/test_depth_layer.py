@@ -208,3 +208,23 @@ def test_normalise_depth_maps_metres_misses_and_range_ends():
     np.testing.assert_allclose(normalise_depth(z, cfg), [0, 127.5, 255, 255, 255, 0, 255], atol=1e-3)
     assert normalise_depth(z, cfg).dtype == np.float32
     assert np.isnan(z[3])  # the input is left as it was
+
+
+def test_cameras_of_one_config_share_read_only_ray_tables():
+    """Thousands of scenes (ModelNet10's 3,928 training shapes) hold one copy of the pixel rays,
+    not one each; a camera with its own intrinsics keeps its own, and the shared ones render the
+    same depth as a camera's own would."""
+    box = trimesh.creation.box(extents=(0.8, 0.5, 0.3))
+    cfg = CameraConfig(24, 24, radius=1.5)
+    a, b = DepthCamera(box.vertices, box.faces, cfg), DepthCamera(box.vertices, box.faces, cfg)
+    assert a._dirs32_t is b._dirs32_t and a.local_dirs is b.local_dirs and a._cos32 is b._cos32
+    with pytest.raises(ValueError, match="read-only"):
+        a.cos[0] = 1.0
+    other = DepthCamera(box.vertices, box.faces, CameraConfig(24, 24, radius=2.0))
+    assert other._dirs32_t is not a._dirs32_t
+    k = g.Intrinsics.from_fov(24, 24, cfg.fov_rad)
+    own = DepthCamera(box.vertices, box.faces, cfg, intrinsics=k)
+    assert own._dirs32_t is not a._dirs32_t
+    views = np.array([[0.4, 0.3], [1.2, 2.0]])
+    np.testing.assert_allclose(own.render(views), a.render(views), atol=1e-3)
+    assert (a.render(views) < 255).sum() > 50

@@ -12,12 +12,21 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""What every dataset is: a list of (source, label) per split, meshes loaded once and cached."""
+"""What every dataset is: a list of (source, label) per split, meshes loaded once and cached.
+
+The conversion cache of file datasets (ModelNet, ShapeNet, a folder): each mesh file is parsed and
+normalised once (`load_mesh`) and kept as float32 vertices and int32 faces in one .npz per file,
+`<cache_dir>/meshes/<key>.npz`, the key a hash of the cache version, the file's resolved path, its
+size and its modification time, so a changed file is read again. A file that cannot be used is
+cached too, as its reason, so a later run parses no mesh text at all. Writes go to a temporary
+file renamed into place: an interrupted run leaves whole entries or none.
+"""
 from __future__ import annotations
 
 import hashlib
 import os
 import sys
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,11 +36,17 @@ from ..meshes import MeshError, load_mesh
 from ..validation import InputError
 
 SPLITS = ("train", "test")
+MESH_CACHE_VERSION = 1  # bump when load_mesh gives other arrays for the same file
 
 
 def default_cache_dir():
-    return Path(os.environ.get("ACTIVE_RECOGNITION_CACHE",
-                               Path.home() / ".cache" / "active_recognition"))
+    """$ACTIVE_RECOGNITION_CACHE, else $XDG_CACHE_HOME/active_recognition, else
+    ~/.cache/active_recognition."""
+    if os.environ.get("ACTIVE_RECOGNITION_CACHE"):
+        return Path(os.environ["ACTIVE_RECOGNITION_CACHE"])
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    base = Path(xdg) if xdg and Path(xdg).is_absolute() else Path.home() / ".cache"
+    return base / "active_recognition"
 
 
 def stable_fraction(key: str) -> float:
@@ -45,11 +60,18 @@ def in_split(key: str, split: str, test_fraction: float) -> bool:
 
 
 def save_npz_atomic(path: Path, **arrays):
+    """Write `arrays` to `path` through a temporary file renamed into place: readers see the
+    old file or the whole new one, and a failed write leaves neither a partial nor a temporary
+    file behind."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "wb") as f:
-        np.savez(f, **arrays)
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "wb") as f:
+            np.savez(f, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def load_npz(path: Path, keys):
@@ -64,6 +86,53 @@ def load_npz(path: Path, keys):
         return None
 
 
+def mesh_cache_path(cache_dir: Path, path: Path) -> Path:
+    """The conversion cache's entry for mesh file `path` as it is now (path, size, mtime)."""
+    stat = path.stat()
+    key = f"v{MESH_CACHE_VERSION}|{path.resolve()}|{stat.st_size}|{stat.st_mtime_ns}"
+    return Path(cache_dir) / "meshes" / f"{hashlib.sha1(key.encode()).hexdigest()}.npz"
+
+
+def load_mesh_entry(entry: Path, source):
+    """A conversion-cache entry: (vertices, faces), a MeshError for a file cached as unusable,
+    or None when the entry is missing or damaged (then the file is converted again)."""
+    if not entry.is_file():
+        return None
+    try:
+        with np.load(entry) as z:
+            if "reason" in z.files:
+                kind = str(z["kind"])
+                if kind not in MeshError.KINDS:
+                    return None
+                return MeshError(source, str(z["reason"]), kind)
+            return np.array(z["vertices"]), np.array(z["faces"])
+    except Exception:  # truncated zip, bad header, missing key: all mean "convert it again"
+        return None
+
+
+def convert_mesh(source, cache_dir=None):
+    """(vertices (V, 3) float32, faces (F, 3) int32, whether it came from the cache) of the
+    mesh file `source`, normalised by `load_mesh`; through the conversion cache under
+    `cache_dir` when given. Raises MeshError (from the cache too) for an unusable file,
+    OSError when it cannot be read."""
+    path = Path(source)
+    if cache_dir is None:
+        return (*load_mesh(path), False)
+    entry = mesh_cache_path(cache_dir, path)
+    cached = load_mesh_entry(entry, path)
+    if isinstance(cached, MeshError):
+        raise cached
+    if cached is not None:
+        return (*cached, True)
+    try:
+        verts, faces = load_mesh(path)
+    except MeshError as e:  # remembered, so a later run does not parse it again
+        save_npz_atomic(entry, reason=np.array(e.reason), kind=np.array(e.kind))
+        raise
+    save_npz_atomic(entry, vertices=verts, faces=faces)
+    return verts, faces, False
+
+
 @dataclass
 class ShapeDataset:
     """Shapes of one split. `items` are (source, label); `mesh(i)` gives normalised arrays."""
@@ -76,6 +145,8 @@ class ShapeDataset:
     cache_dir: Path | None = None
     _meshes: dict = field(default_factory=dict, repr=False)
     layout: str = ""  # where the items were looked for, e.g. "modelnet root R (R/<class>/train/*.off)"
+    loaded: Counter = field(default_factory=Counter)  # meshes "converted" / read from "cache"
+    _skip_kinds: dict = field(default_factory=dict, repr=False)  # source -> MeshError kind
 
     def __post_init__(self):
         self.cache_dir = None if self.cache_dir is None else Path(self.cache_dir)
@@ -105,25 +176,18 @@ class ShapeDataset:
         return self._meshes[i]
 
     def _load(self, source):
-        path = Path(source)
-        if self.cache_dir is None:
-            return load_mesh(path)
-        stat = path.stat()
-        key = hashlib.sha1(f"{path.resolve()}|{stat.st_size}|{stat.st_mtime_ns}".encode())
-        cached = self.cache_dir / "meshes" / f"{key.hexdigest()}.npz"
-        arrays = load_npz(cached, ("vertices", "faces"))
-        if arrays is not None:
-            return arrays
-        verts, faces = load_mesh(path)
-        save_npz_atomic(cached, vertices=verts, faces=faces)
+        verts, faces, cached = convert_mesh(source, self.cache_dir)
+        self.loaded["cache" if cached else "converted"] += 1
         return verts, faces
 
     def validate(self, progress=True):
-        """Load every mesh once; drop and record the unusable ones. Returns self."""
+        """Load every mesh once (converted, or from the cache); drop and record the unusable
+        ones with their reasons. With `progress`, a progress bar and then `summary()` on
+        stderr. Returns self."""
         try:
             from tqdm import tqdm
             it = tqdm(range(len(self.items)), desc=f"{self.name}/{self.split}", disable=not progress,
-                      file=sys.stderr)
+                      file=sys.stderr, unit="mesh")
         except ImportError:  # pragma: no cover
             it = range(len(self.items))
         good = []
@@ -132,9 +196,27 @@ class ShapeDataset:
                 self.mesh(i)
                 good.append(i)
             except (MeshError, OSError) as e:
-                self.skipped.append((str(self.items[i][0]), getattr(e, "reason", str(e))))
+                source = str(self.items[i][0])
+                self.skipped.append((source, getattr(e, "reason", None) or str(e)))
+                self._skip_kinds[source] = getattr(e, "kind", "unreadable")
         self.keep(good)
+        if progress and (self.loaded or self.skipped):
+            print(self.summary(), file=sys.stderr)
         return self
+
+    def skip_counts(self):
+        """{reason kind: files} of the skipped files: 'corrupt', 'empty', 'degenerate' (see
+        MeshError) or 'unreadable' (the system could not read the file)."""
+        return dict(Counter(self._skip_kinds.get(source, "corrupt") for source, _ in self.skipped))
+
+    def summary(self):
+        """One line: meshes kept, how many were converted and how many read from the cache,
+        and the files skipped by kind of reason."""
+        kinds = ", ".join(f"{n} {kind}" for kind, n in sorted(self.skip_counts().items()))
+        return (f"{self.name}/{self.split}: {len(self)} meshes ({self.loaded['converted']} "
+                f"converted, {self.loaded['cache']} from the cache"
+                f"{f' {self.cache_dir}' if self.cache_dir else ''}), {len(self.skipped)} "
+                f"file(s) skipped{f' ({kinds})' if kinds else ''}")
 
     def keep(self, indices):
         """Keep only the items at `indices` (in that order), with their loaded meshes."""
