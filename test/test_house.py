@@ -178,7 +178,8 @@ def unbacked(text, root=ROOT):
     paragraph before it too."""
     problems, previous = [], []
     for block in blocks(text):
-        sources = SOURCE.findall(block) + (previous if block.lstrip().startswith("|") else [])
+        table = block.lstrip().startswith("|")
+        sources = list(dict.fromkeys(SOURCE.findall(block) + (previous if table else [])))
         previous = SOURCE.findall(block)
         values = [v for s in sources if (root / s).is_file() for v in file_numbers(root / s)]
         for m in FIGURE.finditer(prose(block)):
