@@ -84,6 +84,12 @@ class Rollout:
         probs = self.shared_probs if shared else self.probs
         return (probs.argmax(-1) == self.labels[:, None]).mean(0)          # (T,)
 
+    def confusion(self, views=3, classes=None):
+        """(C, C) counts of true class (rows) against the answer after `views` views."""
+        c = classes or self.probs.shape[-1]
+        pred = self.probs[:, views - 1].argmax(-1)
+        return np.bincount(self.labels * c + pred, minlength=c * c).reshape(c, c)
+
     def early_stop(self):
         final = self.probs[np.arange(len(self.labels)), self.stopped_at - 1]
         return float((final.argmax(-1) == self.labels).mean()), float(self.stopped_at.mean())
@@ -232,6 +238,8 @@ def summary(results):
     three = next(iter(results.values())).probs.shape[1] >= 3  # episodes of 3 views or more
     if three:
         s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
+    if three:  # accuracy per class after 3 views, in the order of the classes
+        s["per_class_3"] = {n: [round(float(v), 4) for v in per_class(ro)] for n, ro in results.items()}
     if "fixed" in results and results["fixed"].path is not None:
         s["fixed_path"] = np.round(results["fixed"].path, 6).tolist()
     if all(ro.shared_probs is not None for ro in results.values()):
@@ -239,6 +247,13 @@ def summary(results):
         if three:
             s["stderr_3_shared"] = {n: standard_error(ro, True) for n, ro in results.items()}
     return s
+
+
+def per_class(ro: Rollout, views=3):
+    """Accuracy after `views` views of each class (NaN for a class with no episode)."""
+    m = ro.confusion(views).astype(float)
+    with np.errstate(invalid="ignore"):
+        return np.diag(m) / m.sum(1)
 
 
 def standard_error(ro: Rollout, shared=False, views=3):

@@ -33,19 +33,23 @@ from results_page import write_results_page
 from active_recognition import checkpoint
 from active_recognition.checkpoint import SHIPPED
 from active_recognition.evaluate import EvalConfig, evaluate, summary
-from active_recognition.report import write_json
+from active_recognition.report import PAPER_MODELNET10, write_json
 from active_recognition.run_metrics import read_metrics, training_time
 
 ROOT = Path(__file__).resolve().parents[1]
 MODELS = SHIPPED.parent
 # the planners each dataset's shipped models serve, and the model file of each
+EVERY = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
 PLANNERS = {"procedural": ("learned", "random", "straight", "reinforce", "oracle"),
-            "twins": ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")}
+            "twins": EVERY, "modelnet": EVERY}
 CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt"},
                "twins": {"learned": "twins_learned.pt", "reinforce": "twins_reinforce.pt",
-                         "imitation": "twins.pt"}}
+                         "imitation": "twins.pt"},
+               "modelnet": {"learned": "modelnet10.pt", "reinforce": "modelnet10_reinforce.pt",
+                            "imitation": "modelnet10.pt"}}
 # the planner the recognizer and the demo use with each shipped model (its best non-privileged)
-DEFAULT_CHECKPOINT = {"procedural": "procedural.pt", "twins": "twins.pt"}
+DEFAULT_CHECKPOINT = {"procedural": "procedural.pt", "twins": "twins.pt", "modelnet": "modelnet10.pt"}
+FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results
 
 
 def ship(path, s):
@@ -79,6 +83,7 @@ def choose_default(cfg: EvalConfig, out):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--dataset", default="procedural", choices=sorted(PLANNERS))
+    ap.add_argument("--root", default=None, help="dataset root folder (modelnet: ~/data/ModelNet10)")
     ap.add_argument("--checkpoint", default=None,
                     help="the model that scores random, straight, fixed and oracle views "
                          "(default: the dataset's shipped model)")
@@ -98,24 +103,31 @@ def main():
     results_dir = ROOT / "docs/results"
     if args.ship and args.split != "test":
         ap.error("--ship records the default planner for the test split's models; leave out --split")
-    folder = args.dataset + ("-cross" if args.split == "cross" else "")
-    out = Path(args.out) if args.out else (
-        results_dir if folder == "procedural" else results_dir / folder)
+    if (args.dataset == "modelnet") != bool(args.root):
+        ap.error("--root goes with --dataset modelnet, and modelnet needs it (README: ModelNet10)")
+    if args.split == "cross" and args.dataset == "modelnet":
+        ap.error("the cross split is a generated benchmark's; ModelNet10 has test")
+    runs = results_dir / FOLDER[args.dataset]
+    cross = results_dir / f"{args.dataset}-cross"  # the held-out styles
+    out = Path(args.out) if args.out else cross if args.split == "cross" else runs
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
         if not sep:
             ap.error(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
         own[name] = path
-    runs = results_dir if args.dataset == "procedural" else results_dir / args.dataset
+    model = args.checkpoint or str(MODELS / DEFAULT_CHECKPOINT[args.dataset])
+    for path in {model, *own.values()}:
+        if not Path(path).is_file():
+            ap.error(f"{path}: no such model (train it with its config/train_*.yaml, or pass "
+                     f"--checkpoint / --planner-checkpoint)")
     metrics = {k: getattr(args, f"{k}_metrics") or str(runs / f"{k}_metrics.csv")
                for k in ("learned", "reinforce")}
     for path in metrics.values():
         if not Path(path).is_file():
             ap.error(f"{path}: no such metrics file (train the run first, or pass --*-metrics)")
-    cfg = EvalConfig(checkpoint=args.checkpoint or str(MODELS / DEFAULT_CHECKPOINT[args.dataset]),
-                     planner_checkpoints=own, planners=PLANNERS[args.dataset],
-                     dataset=args.dataset, split=args.split, objects=args.objects,
+    cfg = EvalConfig(checkpoint=model, planner_checkpoints=own, planners=PLANNERS[args.dataset],
+                     dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, out=str(out))
     chosen, val_acc = choose_default(cfg, out)  # on the validation split, before test is read
     results = evaluate(cfg)
@@ -132,8 +144,11 @@ def main():
         print(f"{name:>10}: 3 views {100 * s['acc'][name]['3']:.1f} +- {100 * s['stderr_3'][name]:.1f}"
               f", shared classifier {100 * s['acc_shared'][name]['3']:.1f} +- "
               f"{100 * s['stderr_3_shared'][name]:.1f}")
-    emit({"acc": s["acc"], "shared_acc": s["acc_shared"], "stderr_3": s["stderr_3"],
-          "default_planner": s["default_planner"], "learned_vs_reinforce_time_ratio": t["ratio"]})
+    line = {"acc": s["acc"], "shared_acc": s["acc_shared"], "stderr_3": s["stderr_3"],
+            "default_planner": s["default_planner"], "learned_vs_reinforce_time_ratio": t["ratio"]}
+    if args.dataset == "modelnet":  # the paper's Table 3, accuracy % after 3 / 6 / 9 views
+        line["paper"] = {k: list(v) for k, v in PAPER_MODELNET10.items()}
+    emit(line)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@ import json
 import os
 from pathlib import Path
 
-from active_recognition.report import PAPER, PAPER_TRAINING_HOURS, table
+from active_recognition.report import PAPER, PAPER_MODELNET10, PAPER_TRAINING_HOURS, table
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -203,6 +203,7 @@ def write_results_page(path, results):
     parts += old_vs_new_section(results / "old_vs_new.json")
     parts += camera_section(results / "camera_robustness.json")
     parts += closest_rows(results / "camera_robustness.json", results / "camera_robustness_500.json")
+    parts += modelnet_section(results / "modelnet10")
     parts += twins_section(results / "twins")
     parts += study_section(
         results / "twins_candidates.json", "Twins: every candidate planner",
@@ -397,6 +398,34 @@ def closest_rows(smaller, larger):
         f"One standard error of {small['objects']} objects (above) is {se:.1f} points, so the same "
         f"model ran the closest rows on {big['objects']} objects: `python "
         f"benchmarks/camera_robustness.py --objects {big['objects']} --rows ...`."))
+
+
+def modelnet_section(folder):
+    """ModelNet10, the paper's benchmark: every planner beside the paper's Table 3, per class."""
+    folder = Path(folder)
+    if not (folder / "summary.json").is_file():
+        return []
+    s = json.loads((folder / "summary.json").read_text())
+    ours = accuracy_rows(s, "acc", "stderr_3")
+    paper = [[f"{k} (paper)", *v] + ([""] if "stderr_3" in s else []) for k, v in PAPER_MODELNET10.items()]
+    parts = ["", "# Results on ModelNet10", "",
+             f"The paper's own benchmark (README, 'ModelNet10'): `python benchmarks/planners.py "
+             f"--dataset modelnet --root DIR` ({episodes(folder)}), each planner with its own "
+             "recurrent classifier, beside the paper's Table 3 (random initial view of its 50).",
+             "", table(ours + paper, ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3" in s else []))]
+    if "acc_shared" in s:
+        parts += ["", "## The same views scored by the shared multi-view classifier", "",
+                  table(accuracy_rows(s, "acc_shared", "stderr_3_shared"),
+                        ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3_shared" in s else []))]
+    if s.get("default_planner"):
+        parts += ["", f"Default planner (chosen on the validation split): `{s['default_planner']}`."]
+    if "per_class_3" in s and "classes" in s:
+        names = list(s["per_class_3"])
+        rows = [[c] + [f"{100 * s['per_class_3'][n][i]:.1f}" for n in names]
+                for i, c in enumerate(s["classes"])]
+        parts += ["", "## Accuracy (%) per class after 3 views", "", table(rows, ["class"] + names),
+                  "", "![confusion](results/modelnet10/confusion.png)"]
+    return parts
 
 
 def main(argv=None):

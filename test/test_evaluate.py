@@ -211,3 +211,36 @@ def test_a_checkpoint_of_other_classes_is_refused(results, tmp_path):
                                           "classes": ["a", "b", "c"]})
     with pytest.raises(ValueError, match="abc.pt: the checkpoint's classes"):
         compare_runs({"abc": str(tmp_path / "abc.pt")}, objects=2, steps=1, starts=1)
+
+
+def test_per_class_accuracy_and_confusion_agree_with_a_direct_count(results):
+    res, _, tmp = results
+    out = tmp / "out"
+    s = summary(res)
+    for name, ro in res.items():
+        pred = ro.probs[:, 2].argmax(-1)
+        m = ro.confusion(3, 10)
+        assert m.sum() == len(ro.labels) and list(m.sum(1)) == list(np.bincount(ro.labels, minlength=10))
+        for c in range(10):
+            mine = ro.labels == c
+            want = float((pred[mine] == c).mean()) if mine.any() else float("nan")
+            got = s["per_class_3"][name][c]
+            assert (math.isnan(want) and math.isnan(got)) or abs(got - round(want, 4)) < 1e-9
+    written = json.loads((out / "summary.json").read_text())
+    assert written["classes"][0] == "bathtub" and (out / "confusion.png").is_file()
+
+
+def test_results_page_puts_modelnet10_beside_the_papers_table(results, tmp_path):
+    page = load_benchmark("results_page")
+    res, _, _ = results
+    s = summary(res)
+    s["classes"], s["default_planner"] = [f"c{i}" for i in range(10)], "straight"
+    (tmp_path / "results" / "modelnet10").mkdir(parents=True)
+    (tmp_path / "results" / "summary.json").write_text(json.dumps(s))
+    (tmp_path / "results" / "modelnet10" / "summary.json").write_text(json.dumps(s))
+    page.write_results_page(tmp_path / "RESULTS.md", tmp_path / "results")
+    text = (tmp_path / "RESULTS.md").read_text()
+    assert "# Results on ModelNet10" in text and "| MV-RNN (paper) | 86.4 | 88.9 | 89.5 |" in text
+    assert f"| straight | {100 * s['acc']['straight']['3']:.1f} |" in text
+    assert f"| c0 | {100 * s['per_class_3']['learned'][0]:.1f} |" in text
+    assert "chosen on the validation split): `straight`" in text
