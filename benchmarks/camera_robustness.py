@@ -31,13 +31,14 @@ import numpy as np
 from tqdm import tqdm
 
 from active_recognition import geometry
-from active_recognition.checkpoint import shipped
+from active_recognition.checkpoint import SHIPPED
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.simulated_camera import SimulatedCamera, sensor_config
 
 ROOT = Path(__file__).resolve().parents[1]
+SHIPPED_MODEL = {"procedural": SHIPPED, "modelnet": SHIPPED.with_name("modelnet10.pt")}
 # name: (camera preset and changes, the recognizer's object_size belief, centre offset x size)
 ROWS = {
     "clean": ({}, 1.0, 0.0),
@@ -67,13 +68,13 @@ FRAME = ("object frame 5 % off centre", "object frame 15 % off centre",
          "object_size 15 % too large", "object_size 15 % too small")
 
 
-def run_row(name, objects, seed, checkpoint=None):
+def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=None):
     """One row: every object once, from the same start and with the same draws as every row."""
     camera, believed_size, off = ROWS[name]
     split, yaw = OBJECTS.get(name, {}).get("split", "test"), OBJECTS.get(name, {}).get("yaw")
     sensor = sensor_config("realsense") if camera == "realsense" else sensor_config(**camera)
     k = sensor.intrinsics()
-    test = open_dataset("procedural", split=split, cache_dir=default_cache_dir())
+    test = open_dataset(dataset, root, split, cache_dir=default_cache_dir())
     rng = np.random.default_rng(seed)
     starts = geometry.fibonacci_views(50)[rng.integers(50, size=len(test))]
     directions = rng.standard_normal((len(test), 3))
@@ -85,7 +86,7 @@ def run_row(name, objects, seed, checkpoint=None):
     for i in objects:
         sim = SimulatedCamera(sensor, seed=seed * 100003 + int(i), offset=off * directions[i],
                               yaw=yaws[i])
-        sim.load(dataset="procedural", split=split, index=int(i))
+        sim.load(dataset=dataset, split=split, index=int(i), root=root or "")
         truth = test.classes[test.items[i][1]]
         core.reset(view=starts[i])
         labels = []
@@ -104,24 +105,39 @@ def run_row(name, objects, seed, checkpoint=None):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--objects", type=int, default=200, help="procedural test objects (seeded draw)")
+    ap.add_argument("--dataset", default="procedural", choices=("procedural", "modelnet"),
+                    help="whose test objects (modelnet: with --root; the cross-style row is "
+                         "procedural's own)")
+    ap.add_argument("--root", default=None, help="dataset root folder (modelnet)")
+    ap.add_argument("--objects", type=int, default=200, help="test objects (seeded draw)")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--rows", nargs="*", default=list(ROWS), help="rows to run (default: all)")
+    ap.add_argument("--rows", nargs="*", default=None, help="rows to run (default: all)")
     ap.add_argument("--workers", type=int, default=2, help="processes (one row each at a time)")
     ap.add_argument("--checkpoint", default=None, help="model file (default: the shipped one)")
-    ap.add_argument("--out", default=str(ROOT / "docs/results/camera_robustness.json"),
-                    help="JSON to write ('' = none)")
+    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
+                    "docs/results/camera_robustness.json, for modelnet "
+                    "docs/results/modelnet10/camera_robustness.json)")
     args = ap.parse_args(argv)
-    unknown = sorted(set(args.rows) - set(ROWS))
+    if (args.dataset == "modelnet") != bool(args.root):
+        ap.error("--root goes with --dataset modelnet, and modelnet needs it")
+    rows_here = [r for r in ROWS if args.dataset == "procedural" or "split" not in OBJECTS.get(r, {})]
+    args.rows = rows_here if args.rows is None else args.rows
+    unknown = sorted(set(args.rows) - set(rows_here))
     if unknown:
-        ap.error(f"unknown rows {unknown}; choose from {list(ROWS)}")
-    n_test = len(open_dataset("procedural", split="test", cache_dir=default_cache_dir()))
+        ap.error(f"unknown rows {unknown}; choose from {rows_here}")
+    if args.out is None:
+        args.out = str(ROOT / "docs/results" / ("modelnet10/" if args.dataset == "modelnet" else "")
+                       / "camera_robustness.json")
+    if args.checkpoint is None and args.dataset != "procedural":
+        args.checkpoint = str(SHIPPED_MODEL[args.dataset])
+    n_test = len(open_dataset(args.dataset, args.root, "test", cache_dir=default_cache_dir()))
     if not 1 <= args.objects <= n_test:
         ap.error(f"--objects must be 1..{n_test}")
     objects = np.sort(np.random.default_rng(args.seed).permutation(n_test)[:args.objects])
     rows = {}
     with ProcessPoolExecutor(args.workers) as pool:
-        jobs = [pool.submit(run_row, name, objects, args.seed, args.checkpoint) for name in args.rows]
+        jobs = [pool.submit(run_row, name, objects, args.seed, args.checkpoint, args.dataset,
+                            args.root) for name in args.rows]
         for job in tqdm(jobs, desc="rows"):
             name, hits3, hits_stop, views = job.result()
             rows[name] = {"acc_3": float(np.mean(hits3)), "acc_stop": float(np.mean(hits_stop)),
@@ -132,7 +148,8 @@ def main(argv=None):
               f"views {r['mean_views']:.2f}")
     result = {"clean": rows.get("clean", {}).get("acc_3"),
               "realsense": rows.get("realsense", {}).get("acc_3"), "rows": rows,
-              "objects": len(objects), "checkpoint": str(args.checkpoint or shipped("procedural"))}
+              "objects": len(objects), "dataset": args.dataset,
+              "checkpoint": str(args.checkpoint or SHIPPED_MODEL[args.dataset])}
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(args.out + ".tmp")
