@@ -109,7 +109,8 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
     for b in range(0, len(objects), chunk):
         idx = objects[b:b + chunk]
         cams = shapes.cameras(idx)
-        planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates, model, fixed_path)
+        planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates, model, fixed_path,
+                               shapes.labels[idx])
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner)
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)

@@ -26,7 +26,7 @@ from torch import nn
 
 from . import geometry
 from .episode import Episode, EpisodeConfig, run
-from .policies import lookahead_logits, visited_mask
+from .policies import teacher_choice, visited_mask
 
 
 def step_weights(steps, weighting="uniform"):
@@ -132,13 +132,8 @@ class ImitationLoss(nn.Module):
         self.candidates = geometry.fibonacci_views(model.config.candidates)
 
     def oracle_targets(self, cand_features, hidden, labels, visited):
-        """(B,) index of the best unvisited candidate for each object, by true-class loss."""
-        with torch.no_grad():
-            logits = lookahead_logits(self.model, cand_features, hidden, self.candidates)
-            loss = nn.functional.cross_entropy(logits.transpose(1, 2), labels[:, None].expand(
-                -1, logits.shape[1]), reduction="none")                              # (B, K)
-            loss[torch.as_tensor(visited, device=loss.device)] = float("inf")
-            return loss.argmin(1)
+        """(B,) index of the best unvisited candidate for each object (the oracle's choice)."""
+        return teacher_choice(self.model, cand_features, hidden, labels, self.candidates, visited)
 
     def forward(self, cameras, views, labels):
         model, k = self.model, len(self.candidates)

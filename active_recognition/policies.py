@@ -23,8 +23,12 @@ fixed      -- the best fixed path: after the first view, the views (fixed in the
               random views; the honest test of whether a planner adapts
 imitation  -- FC_view of a model trained to imitate the oracle (train --policy imitation): the
               best-scored candidate view not yet visited; needs no mesh and renders nothing
-oracle     -- PRIVILEGED upper bound: renders every candidate view of the object and takes the
-              one whose next prediction has the least entropy (the largest information gain)
+oracle     -- PRIVILEGED upper bound, and the teacher imitation learns from: knows the label,
+              renders every candidate view of the object and takes the unvisited one after which
+              the model's own classifier gives the true class the highest probability
+greedy     -- PRIVILEGED, without the label: renders every candidate and takes the one whose next
+              prediction has the least entropy (it may look again where it has looked; it was
+              called `oracle` before issue #22)
 """
 from __future__ import annotations
 
@@ -36,7 +40,8 @@ import torch
 from . import geometry
 from .validation import InputError
 
-PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
+PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle", "greedy")
+PRIVILEGED = ("oracle", "greedy")  # they render the object's mesh: not for a robot
 
 
 class RandomPlanner:
@@ -113,36 +118,77 @@ def lookahead_logits(model, features, hidden, views):
     return model.classify(h).reshape(b, k, -1)
 
 
-class OraclePlanner:
-    """Greedy one-step information gain over a fixed candidate set. Sees the object: privileged.
+def teacher_choice(model, features, hidden, labels, views, visited):
+    """(B,) index of the candidate after which the true class is likeliest, among those not yet
+    visited: features (B, K, F) of the candidates, hidden (B, H), labels (B,), views (K, 2),
+    visited (B, K) bool. The oracle's choice, and the target imitation learns."""
+    with torch.no_grad():
+        logp = lookahead_logits(model, features, hidden, views).log_softmax(-1)       # (B, K, C)
+        true = logp.gather(2, labels[:, None, None].expand(-1, logp.shape[1], 1))[..., 0]
+        true[torch.as_tensor(visited, device=true.device)] = -float("inf")
+        return true.argmax(1)
 
-    The candidates' images, hence their encoder features, are the same at every step, so each
-    object's features are computed once; a step only runs the recurrent cell and FC_class.
-    """
 
-    privileged = True
+class CandidateFeatures:
+    """The encoder features of every candidate view of each object, computed once (the
+    candidates' images are the same at every step): the privileged planners' look-ahead."""
 
     def __init__(self, cameras, candidates=50):
         self.cameras = cameras
         self.candidates = geometry.fibonacci_views(candidates)
         self.features = {}
 
+    def of(self, model, i, device):
+        if i not in self.features:
+            depth = torch.from_numpy(self.cameras[i].render(self.candidates))          # (K, H, W)
+            with torch.no_grad():
+                self.features[i] = model.features(depth.to(device))
+        return self.features[i]
+
+
+class OraclePlanner(CandidateFeatures):
+    """PRIVILEGED: the unvisited candidate after which the true class is likeliest (knows the
+    label, renders the object): the upper bound of one-step planning, and imitation's teacher."""
+
+    privileged = True
+
+    def __init__(self, cameras, labels, candidates=50):
+        super().__init__(cameras, candidates)
+        self.labels = torch.as_tensor(np.asarray(labels), dtype=torch.long)
+
+    def next_view(self, episode, step):
+        device = episode.view.device
+        feats = torch.stack([self.of(episode.model, i, device) for i in range(len(self.cameras))])
+        visited = visited_mask(episode, self.candidates)
+        if visited.all(1).any():  # every candidate seen: the teacher has nothing new to offer
+            visited[visited.all(1)] = False
+        pick = teacher_choice(episode.model, feats, episode.hidden, self.labels.to(device),
+                              self.candidates, visited)
+        return self.candidates[pick.cpu().numpy()]
+
+
+class GreedyPlanner(CandidateFeatures):
+    """PRIVILEGED, without the label: the candidate whose next prediction has the least entropy
+    (the largest one-step information gain); it may revisit a view."""
+
+    privileged = True
+
     def next_view(self, episode, step):
         model, best = episode.model, []
         with torch.no_grad():
-            for i, cam in enumerate(self.cameras):
-                if i not in self.features:
-                    depth = torch.from_numpy(cam.render(self.candidates))      # (K, H, W)
-                    self.features[i] = model.features(depth.to(episode.view.device))
-                p = lookahead_logits(model, self.features[i][None], episode.hidden[i:i + 1],
+            for i in range(len(self.cameras)):
+                feats = self.of(model, i, episode.view.device)
+                p = lookahead_logits(model, feats[None], episode.hidden[i:i + 1],
                                      self.candidates)[0].softmax(-1)
                 h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1)
                 best.append(self.candidates[int(h.argmin())])
         return np.stack(best)
 
 
-def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_path=None):
-    """A planner by name; None for the model's own view head (learned, reinforce)."""
+def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_path=None,
+                 labels=None):
+    """A planner by name; None for the model's own view head (learned, reinforce). The
+    privileged ones need the objects' `cameras`, the oracle their `labels` too."""
     if name not in PLANNERS:
         raise InputError(f"planner must be one of {PLANNERS}, got {name!r}")
     if name in ("learned", "reinforce"):
@@ -161,5 +207,9 @@ def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_pa
                              "checkpoint that carries 'fixed_path')")
         return FixedPlanner(fixed_path, seed)
     if cameras is None:
-        raise InputError("the oracle planner needs the objects' cameras (it is privileged)")
-    return OraclePlanner(cameras, candidates)
+        raise InputError(f"the {name} planner needs the objects' cameras (it is privileged)")
+    if name == "greedy":
+        return GreedyPlanner(cameras, candidates)
+    if labels is None:
+        raise InputError("the oracle planner needs the objects' labels (it is privileged)")
+    return OraclePlanner(cameras, labels, candidates)

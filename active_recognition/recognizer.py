@@ -32,19 +32,19 @@ import torch
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
-from .policies import PLANNERS, make_planner
+from .policies import PLANNERS, PRIVILEGED, make_planner
 from .reprojection import auto_standoff, reproject, seen_centre
 from .validation import InputError, option, validate
 
 TRUSTED = 0.05  # an object frame this close to the centre seen (x object_size) is left alone
-NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p != "oracle")  # the oracle needs the mesh
+NODE_PLANNERS = ("auto",) + tuple(p for p in PLANNERS if p not in PRIVILEGED)  # they need the mesh
 
 
 def choose_planner(name, model, ckpt):
     """The planner name `name` stands for with this checkpoint ("auto": its best)."""
     if name not in NODE_PLANNERS:
         raise InputError(f"planner must be one of {NODE_PLANNERS} (the oracle needs the object's "
-                         f"mesh, so a robot cannot use it), got {name!r}")
+                         f"mesh, and so does greedy: a robot cannot use them), got {name!r}")
     if name != "auto":
         return name
     return ckpt.get("default_planner") or ("imitation" if model.config.candidates else "learned")

@@ -66,6 +66,11 @@ shipped model with its fixed path, and the best fixed path of the headroom table
 benchmark below, also the choice of its best end-to-end run). Those figures stand as measured;
 every new choice (training epochs, settings, fixed paths, default planners) is made
 on the validation split, and the test split only fills the final tables.
+
+**`oracle` in the older tables.** Until issue #22, `oracle` named the privileged rule that takes
+the candidate view with the least entropy next; that rule is now `greedy`, and `oracle` knows
+the label and takes the unvisited view after which the true class is likeliest (the teacher
+imitation learns from). Tables measured before it still say `oracle` for the greedy rule.
 """
 
 

@@ -21,7 +21,7 @@ import pytest
 import torch
 from conftest import load_benchmark
 
-from active_recognition import checkpoint
+from active_recognition import checkpoint, geometry
 from active_recognition.evaluate import EvalConfig, evaluate, summary
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.run_metrics import training_time
@@ -43,7 +43,7 @@ def results(tmp_path_factory):
                                                          "monitor", "night_stand", "sofa", "table",
                                                          "toilet"]})
     cfg = EvalConfig(checkpoint=str(tmp / "m.pt"), reinforce_checkpoint=str(tmp / "rf.pt"),
-                     planners=("learned", "random", "straight", "reinforce", "oracle"),
+                     planners=("learned", "random", "straight", "reinforce", "oracle", "greedy"),
                      objects=12, steps=4, seed=1, out=str(tmp / "out"), shared=False,
                      oracle_candidates=12, trajectory_figures=1)
     res = evaluate(cfg, progress=False)
@@ -68,14 +68,28 @@ def test_information_gain_sums_to_the_entropy_drop(results):
         np.testing.assert_allclose(ro.gain.sum(1), math.log(10) - h_t, atol=1e-4)
 
 
-def test_oracle_is_never_worse_than_random_on_average(results):
+def test_greedy_is_never_worse_than_random_on_average(results):
     res = results[0]
-    # the oracle minimises the next entropy; on average its confidence in its answer is higher
+    # greedy minimises the next entropy; on average its confidence in its answer is higher
 
     def mean_entropy(ro):
         p = ro.probs[:, 1:]
         return (-(p * np.log(np.clip(p, 1e-12, None))).sum(-1)).mean()
-    assert mean_entropy(res["oracle"]) <= mean_entropy(res["random"])
+    assert mean_entropy(res["greedy"]) <= mean_entropy(res["random"])
+
+
+def test_the_oracle_raises_the_true_class_and_never_looks_twice(results):
+    res = results[0]
+    # from the same first view, its second view maximises the true class's probability among
+    # the candidates: on average above a random view's
+
+    def true_prob(ro, t):
+        return ro.probs[np.arange(len(ro.labels)), t, ro.labels].mean()
+    assert true_prob(res["oracle"], 1) >= true_prob(res["random"], 1)
+    from active_recognition.policies import nearest_candidates
+    picks = nearest_candidates(res["oracle"].views.reshape(-1, 2),  # the first view too
+                               geometry.fibonacci_views(12)).reshape(12, -1)
+    assert all(len(set(p)) == len(p) for p in picks)
 
 
 def test_table_columns_equal_the_curve_and_files_are_written(results):
@@ -89,7 +103,7 @@ def test_table_columns_equal_the_curve_and_files_are_written(results):
               "information_gain.png", "trajectories.png"):
         assert (out / f).stat().st_size > 0, f
     rows = list(csv.DictReader(open(out / "per_object.csv")))
-    assert len(rows) == 12 * 5
+    assert len(rows) == 12 * 6
     assert json.loads((out / "summary.json").read_text())["acc"]["random"] == s["acc"]["random"]
     report = (out / "report.md").read_text()
     for name, ro in res.items():  # each row holds that planner's own figures (4 views: 3 only)

@@ -232,8 +232,9 @@ def test_recognizer_planner_auto_is_the_checkpoint_default_and_oracle_is_refused
     assert ActiveRecognizer(tmp_path / "d.pt").planner == "straight"
     core = ActiveRecognizer(tmp_path / "m.pt", planner="random", seed=4)
     assert core.planner == "random"
-    with pytest.raises(ValueError, match="oracle needs the object's mesh"):
-        ActiveRecognizer(tmp_path / "m.pt", planner="oracle")
+    for privileged in ("oracle", "greedy"):
+        with pytest.raises(ValueError, match="oracle needs the object's mesh, and so does greedy"):
+            ActiveRecognizer(tmp_path / "m.pt", planner=privileged)
     with pytest.raises(ValueError, match="fixed planner needs its path"):
         ActiveRecognizer(tmp_path / "m.pt", planner="fixed")
     checkpoint.save(tmp_path / "f.pt", {**payload, "fixed_path": [[0.3, 0.2], [2.0, 1.0]]})

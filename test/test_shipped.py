@@ -100,16 +100,16 @@ def test_oracle_is_not_worse_than_random_with_the_shipped_model():
     cams = test.cameras(idx)
     accs = {}
     for name in ("random", "oracle"):
-        planner = make_planner(name, cams, seed=5, candidates=20)
+        planner = make_planner(name, cams, seed=5, candidates=20, labels=test.labels[idx])
         accs[name] = accuracy(model, test, idx, views, 2, planner)
     assert accs["oracle"] >= accs["random"], accs
 
 
-def test_oracle_picks_the_least_entropy_candidate_by_brute_force():
+def test_greedy_picks_the_least_entropy_candidate_by_brute_force():
     model, _, _ = checkpoint.load_model()
     test, idx, views = episodes(3, seed=9)
     cams = test.cameras(idx)
-    oracle = make_planner("oracle", cams, candidates=12)
+    oracle = make_planner("greedy", cams, candidates=12)
     ep = Episode(model, EpisodeConfig(4), oracle)
     with torch.no_grad():
         run(ep, cams, views, 2)  # two steps: the cached features are reused at the second
@@ -121,6 +121,26 @@ def test_oracle_picks_the_least_entropy_candidate_by_brute_force():
             # the oracle's choice after step 2, recomputed the slow way from the same state
             chosen = oracle.next_view(ep, None)[i]
             np.testing.assert_allclose(chosen, oracle.candidates[int(h.argmin())])
+
+
+def test_the_oracle_picks_the_unvisited_candidate_likeliest_to_be_right_by_brute_force():
+    from active_recognition.policies import nearest_candidates
+
+    model, _, _ = checkpoint.load_model()
+    test, idx, views = episodes(3, seed=9)
+    cams, labels = test.cameras(idx), test.labels[idx]
+    oracle = make_planner("oracle", cams, candidates=12, labels=labels)
+    ep = Episode(model, EpisodeConfig(4), oracle)
+    with torch.no_grad():
+        run(ep, cams, views, 3)
+        taken = [nearest_candidates(v.numpy(), oracle.candidates) for v in ep.views]  # + the next
+        chosen = oracle.next_view(ep, None)
+        for i, cam in enumerate(cams):
+            depth = torch.from_numpy(cam.render(oracle.candidates))
+            logits, _, _ = model(depth, ep.hidden[i:i + 1].expand(len(depth), -1).clone())
+            p_true = logits.softmax(-1)[:, labels[i]].numpy()
+            p_true[[t[i] for t in taken]] = -1  # never a view it has taken
+            np.testing.assert_allclose(chosen[i], oracle.candidates[int(p_true.argmax())])
 
 
 def test_shipped_twins_model_chooses_views_that_pay():
