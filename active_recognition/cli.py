@@ -98,7 +98,7 @@ def cmd_train(args):
 
     flags = {f.name: getattr(args, f.name, None) for f in dataclasses.fields(TrainConfig)}
     model = {k: getattr(args, k) for k in ("hidden_size", "encoder", "max_step", "radius",
-                                           "view_input", "candidates")}
+                                           "view_input", "candidates", "memory")}
     cfg = preset_config(args.config, flags, model)
     train(cfg)
     print(f"checkpoints in {cfg.out}: {', '.join(written_checkpoints(cfg.out))}")
@@ -130,6 +130,9 @@ def add_train(sub):
                         "(imitation, needs --candidates)")
     p.add_argument("--revisit-penalty", dest="revisit_penalty", type=own("revisit_penalty"),
                    help="learned: weight of the penalty on views within 30 degrees of earlier ones (0)")
+    p.add_argument("--random-views", dest="random_views", type=own("random_views"),
+                   help="learned: chance that a training step's next view is a random one, so the "
+                        "classifier learns from any sequence of views (0)")
     p.add_argument("--imitation-mix", dest="imitation_mix", type=own("imitation_mix"),
                    help="imitation: chance that a training step follows the oracle (0.5)")
     p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=own("pretrain_epochs"),
@@ -184,6 +187,9 @@ def add_train(sub):
     p.add_argument("--radius", type=arg_of(ModelConfig, "radius"), help="viewing-sphere radius R")
     p.add_argument("--view-input", dest="view_input", action="store_true", default=None,
                    help="feed the current view to the RNN (MV-RNN style)")
+    p.add_argument("--memory", choices=("rnn", "rnn+max"),
+                   help="the state the heads read: the RNN's (the paper), or beside it the running "
+                        "maximum of the image features seen (rnn+max)")
     p.add_argument("--candidates", type=arg_of(ModelConfig, "candidates"),
                    help="size of FC_view, the head scoring candidate views (imitation; 0 = none)")
     p.set_defaults(func=cmd_train)

@@ -60,6 +60,7 @@ class Episode:
     planner: object = None  # None: the model's own FC_loc; else planner.next_view(episode, step)
     exploration_std: float = 0.0  # > 0: sample increments from N(FC_loc, std^2) (REINFORCE)
     explore_through: bool = False  # keep the sample's path to FC_loc (the hybrid's view gradient)
+    random_views: float = 0.0  # training: each next view is a random one with this chance
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
@@ -112,6 +113,11 @@ class Episode:
                 delta = sample
             theta, phi = wrap_view(self.view[:, 0] + delta[:, 0], self.view[:, 1] + delta[:, 1])
             step.next_view = torch.stack([theta, phi], -1)
+            if self.random_views > 0:  # so the classifier learns from any sequence of views
+                jump = torch.rand(len(theta), device=theta.device) < self.random_views
+                anywhere = torch.stack([torch.arccos(1 - 2 * torch.rand_like(theta)),
+                                        (2 * torch.rand_like(phi) - 1) * math.pi], -1)
+                step.next_view = torch.where(jump[:, None], anywhere, step.next_view)
         else:
             step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32,
                                              device=self.view.device)

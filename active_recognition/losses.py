@@ -57,14 +57,15 @@ class JointLoss(nn.Module):
     """A whole batch of episodes, rendered through the differentiable depth layer."""
 
     def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0,
-                 corrupt=None):
+                 corrupt=None, random_views=0.0):
         super().__init__()
         self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
-        self.revisit, self.corrupt = revisit, corrupt
+        self.revisit, self.corrupt, self.random_views = revisit, corrupt, random_views
 
     def forward(self, cameras, views, labels):
-        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0))
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
+                     random_views=self.random_views)
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         loss = steps_loss(out, labels, self.weights)
         if self.revisit:

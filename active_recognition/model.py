@@ -45,9 +45,17 @@ class ModelConfig:
     radius: float = option(1.0, lo=0, hi=100, lo_open=True)  # viewing-sphere radius trained at
     view_input: bool = option(False)    # feed the current view to the RNN (MV-RNN style)
     candidates: int = option(0, lo=0, hi=10_000)  # > 0: FC_view scores this many candidate views
+    # the state the heads read: the RNN's h_t (the paper), or h_t beside the element-wise maximum
+    # of the image features seen so far (max: a view's evidence is never forgotten, as in MVCNN's
+    # view pooling, so more views cannot hide what one view showed)
+    memory: str = option("rnn", choices=("rnn", "rnn+max"))
 
     def __post_init__(self):
         validate(self)
+
+    @property
+    def state_size(self):
+        return self.hidden_size + (self.feature_size if self.memory == "rnn+max" else 0)
 
     @property
     def image_size(self):
@@ -85,15 +93,25 @@ class RecurrentAttention(nn.Module):
         self.encoder = build(config.feature_size)
         inputs = config.feature_size + (3 if config.view_input else 0)
         self.cell = nn.RNNCell(inputs, config.hidden_size, nonlinearity="relu")
-        self.classify = nn.Linear(config.hidden_size, config.num_classes)   # FC_class
-        self.locate = nn.Linear(config.hidden_size, 2)                      # FC_loc
+        state = config.state_size
+        self.classify = nn.Linear(state, config.num_classes)   # FC_class
+        self.locate = nn.Linear(state, 2)                      # FC_loc
         nn.init.normal_(self.locate.weight, std=0.01)
         nn.init.zeros_(self.locate.bias)
         if config.candidates:
-            self.score_views = nn.Linear(config.hidden_size, config.candidates)  # FC_view
+            self.score_views = nn.Linear(state, config.candidates)  # FC_view
 
     def init_hidden(self, batch, device=None):
-        return torch.zeros(batch, self.config.hidden_size, device=device)
+        """The state before any view (B, state_size): zeros."""
+        return torch.zeros(batch, self.config.state_size, device=device)
+
+    def advance(self, features, state, view=None):
+        """The state after one more image: the RNN cell on e_t (and the view), and with memory
+        rnn+max the running maximum of the features beside it."""
+        h = self.cell(self.cell_input(features, view), state[:, :self.config.hidden_size])
+        if self.config.memory == "rnn":
+            return h
+        return torch.cat([h, torch.maximum(state[:, self.config.hidden_size:], features)], -1)
 
     def features(self, depth):
         """Normalised depth (B, H, W) in [0, 255] -> e_t (B, feature_size)."""
@@ -113,12 +131,11 @@ class RecurrentAttention(nn.Module):
     def forward(self, depth, hidden, view=None):
         """One step from the image(s) taken at view (B, 2): (logits (B, C), view increment (B, 2),
         new hidden (B, hidden_size))."""
-        hidden = self.cell(self.cell_input(self.features(depth), view), hidden)
+        hidden = self.advance(self.features(depth), hidden, view)
         delta = self.config.max_step * torch.tanh(self.locate(hidden))
         return self.classify(hidden), delta, hidden
 
     def classify_image(self, depth, view=None):
         """The shape classifier alone: logits from one image, from a zero state."""
-        hidden = self.cell(self.cell_input(self.features(depth), view),
-                           self.init_hidden(len(depth), depth.device))
-        return self.classify(hidden)
+        return self.classify(self.advance(self.features(depth), self.init_hidden(len(depth), depth.device),
+                                          view))

@@ -113,8 +113,7 @@ def lookahead_logits(model, features, hidden, views):
     features (B, K, F) of the candidates, hidden (B, H), views (K, 2) -> (B, K, C)."""
     b, k = features.shape[:2]
     views = torch.as_tensor(views, dtype=torch.float32, device=features.device)
-    inputs = model.cell_input(features.reshape(b * k, -1), views.repeat(b, 1))
-    h = model.cell(inputs, hidden.repeat_interleave(k, 0))
+    h = model.advance(features.reshape(b * k, -1), hidden.repeat_interleave(k, 0), views.repeat(b, 1))
     return model.classify(h).reshape(b, k, -1)
 
 

@@ -62,6 +62,7 @@ class TrainConfig:
     policy: str = option("learned", choices=POLICIES)
     imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
+    random_views: float = option(0.0, lo=0, hi=1)   # learned: chance a training step looks anywhere
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
     joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
     batch_size: int = option(32, lo=1, hi=100_000)
@@ -195,7 +196,7 @@ def joint_loss(cfg: TrainConfig, model, corrupt):
     if cfg.policy == "imitation":
         return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt)
     return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
-                     cfg.step_weighting, cfg.revisit_penalty, corrupt)
+                     cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views)
 
 
 class Trainer:

@@ -168,3 +168,55 @@ def test_initial_step_sets_the_untrained_increment():
     torch.testing.assert_close(delta, torch.tensor([[0.1, -0.7]] * 2))
     with pytest.raises(ValueError, match="max_step"):
         set_initial_step(model, (0.0, 0.8))
+
+
+def test_a_max_memory_keeps_the_running_maximum_of_the_features_beside_the_rnn_state():
+    torch.manual_seed(3)
+    cfg = ModelConfig(num_classes=4, hidden_size=6, feature_size=5, memory="rnn+max", candidates=7)
+    model = RecurrentAttention(cfg).eval()
+    plain = RecurrentAttention(ModelConfig(num_classes=4, hidden_size=6, feature_size=5)).eval()
+    plain.load_state_dict({k: v for k, v in model.state_dict().items()
+                           if not k.startswith(("classify", "locate", "score_views"))}, strict=False)
+    depth = torch.rand(5, 2, 64, 64) * 255                        # 5 steps of 2 objects
+    state, h = model.init_hidden(2), plain.init_hidden(2)
+    assert state.shape == (2, 11)
+    with torch.no_grad():
+        seen = []
+        for t in range(5):
+            logits, delta, state = model(depth[t], state)
+            _, _, h = plain(depth[t], h)
+            seen.append(model.features(depth[t]))
+            torch.testing.assert_close(state[:, :6], h)                          # the RNN as before
+            torch.testing.assert_close(state[:, 6:], torch.stack(seen).amax(0))  # the running max
+            torch.testing.assert_close(logits, model.classify(state))
+        assert model.score_views(state).shape == (2, 7) and delta.shape == (2, 2)
+        # the privileged look-ahead runs the same step as the episode
+        from active_recognition.policies import lookahead_logits
+        feats = torch.rand(2, 3, 5)
+        views = torch.rand(3, 2)
+        ahead = lookahead_logits(model, feats, state, views)
+        for k in range(3):
+            torch.testing.assert_close(ahead[:, k], model.classify(model.advance(feats[:, k], state)))
+
+
+def test_random_views_in_training_jump_anywhere_at_their_rate_and_keep_the_rest_differentiable():
+    from active_recognition.geometry import wrap_view
+
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, feature_size=8))
+    depth = torch.rand(4000, 64, 64) * 255
+    for rate in (0.0, 0.3, 1.0):
+        ep = Episode(model, EpisodeConfig(max_views=3, entropy_threshold=0.0), random_views=rate)
+        ep.reset(torch.full((4000, 2), 1.0))
+        view = ep.view
+        logits, delta, _ = model(depth, model.init_hidden(4000), view)
+        own = torch.stack(wrap_view(view[:, 0] + delta[:, 0], view[:, 1] + delta[:, 1]), -1)
+        nxt = ep.step(depth).next_view
+        jumped = ~torch.isclose(nxt, own, atol=1e-5).all(-1)
+        assert abs(jumped.float().mean().item() - rate) < 0.03
+        if rate == 1.0:  # uniform on the sphere: cos(theta) uniform in [-1, 1]
+            assert abs(torch.cos(nxt[:, 0]).mean().item()) < 0.05
+            assert abs(torch.cos(nxt[:, 0]).var().item() - 1 / 3) < 0.03
+        if rate == 0.3:
+            nxt[~jumped].sum().backward()
+            assert model.locate.weight.grad.abs().sum() > 0
