@@ -57,8 +57,8 @@ def choose_planner(name, model, ckpt):
 class SensingConfig:
     # metres: the object box's longest edge (a real object: 1 mm to 100 m)
     object_size: float = option(1.0, lo=1e-3, hi=100)
-    # metres from the object's centre to the camera; 0 = auto
-    standoff: float = option(0.0, lo=0, hi=1000)
+    # metres from the object's centre to the camera (up to plausible.MAX_DISTANCE); 0 = auto
+    standoff: float = option(0.0, lo=0, hi=100)
     # fewer object pixels (share of the model's image): the image is empty
     min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
     max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
