@@ -143,7 +143,7 @@ class OraclePlanner:
 
     def next_view(self, episode, step):
         model, best = episode.model, []
-        masked = torch.as_tensor(~reachable(episode, self.candidates))
+        masked = torch.as_tensor(~reachable(episode, self.candidates), device=episode.view.device)
         with torch.no_grad():
             for i, cam in enumerate(self.cameras):
                 if i not in self.features:

@@ -171,3 +171,33 @@ def test_with_the_defaults_a_silent_camera_ends_an_episode_within_15_s():
     timeout, retries = PARAMS["view_timeout"][0], PARAMS["max_retries"][0]
     assert timeout * (retries + 1) * PARAMS["max_unreachable_views"][0] <= 15.0
     assert timeout >= 2.0  # and a camera that is merely slow is not given up at once
+
+
+def followed(sub):
+    sub.follow()
+    return sub.reliability
+
+
+def test_auto_qos_follows_the_publishers_as_they_come_and_change():
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from active_recognition.nodes.inputs import SensorSubscription
+    with ros_session() as (ctx, executor):
+        node, got = Node("listener", context=ctx), []
+        sub = SensorSubscription(node, Image, "depth/image", got.append, "auto")
+        fixed = SensorSubscription(node, Image, "depth/image", got.append, "reliable")
+        assert sub.reliability == "best_effort"  # no publisher yet: hears any
+        talker = Node("talker", context=ctx)
+        for n in (node, talker):
+            executor.add_node(n)
+        reliable = talker.create_publisher(Image, "depth/image", QoSProfile(depth=1))
+        assert spin_until(executor, lambda: followed(sub) == "reliable", 5)
+        best_effort = talker.create_publisher(Image, "depth/image", QoSProfile(
+            depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+        assert spin_until(executor, lambda: followed(sub) == "best_effort", 5)
+        assert spin_until(executor, lambda: best_effort.get_subscription_count() == 1, 5)
+        best_effort.publish(ma.metres_to_image(np.ones((4, 4), np.float32)))
+        assert spin_until(executor, lambda: len(got) == 1, 5)  # the reliable one cannot hear it
+        talker.destroy_publisher(best_effort)
+        assert spin_until(executor, lambda: followed(sub) == "reliable", 5)
+        assert not fixed.follow() and fixed.reliability == "reliable"
+        assert reliable.get_subscription_count() >= 1

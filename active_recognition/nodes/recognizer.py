@@ -258,8 +258,10 @@ class Recognizer(Node):
         self.unreachable += 1
         obs = self.core.view_unreachable()
         if obs.done:
-            self.refuse("no_image", f"view {view} unreachable after {self.tries} tries and no "
-                                    f"other view can be had: the episode ends with no_image")
+            self.refuse("no_image", f"view {view} unreachable after {self.tries} tries: no view "
+                                    f"can be had ({self.sensing.max_unreachable_views} "
+                                    f"unreachable in a row, or none left); the episode ends "
+                                    f"with no_image")
             return self.finish(obs)
         self.refuse("unreachable", f"view {view} unreachable after {self.tries} tries: asking "
                                    f"for " + "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
