@@ -201,3 +201,19 @@ def test_auto_qos_follows_the_publishers_as_they_come_and_change():
         assert spin_until(executor, lambda: followed(sub) == "reliable", 5)
         assert not fixed.follow() and fixed.reliability == "reliable"
         assert reliable.get_subscription_count() >= 1
+
+
+def test_the_simulated_camera_publishes_nothing_for_a_pose_below_its_floor():
+    with ros_session() as (ctx, executor):
+        camera = SimulatedCameraNode(context=ctx, parameter_overrides=[
+            Parameter("floor", value=True), Parameter("index", value=3)])
+        client, images = Node("arm", context=ctx), []
+        client.create_subscription(Image, "depth/image", images.append, qos_profile_sensor_data)
+        request = client.create_publisher(PoseStamped, "next_view", 10)
+        for n in (camera, client):
+            executor.add_node(n)
+        assert spin_until(executor, lambda: request.get_subscription_count() > 0, 10)
+        request.publish(ma.view_to_pose(2.6, 0.3, 1.5))  # from below
+        assert not spin_until(executor, lambda: images, 0.5) and camera.unanswered == 1
+        request.publish(ma.view_to_pose(0.6, 0.3, 1.5))  # from above
+        assert spin_until(executor, lambda: images, 5) and camera.unanswered == 1

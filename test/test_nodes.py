@@ -264,6 +264,9 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
     ("recognizer", ["-p", "max_views:=0"], "parameter max_views must be an integer from 1 to 1000"),
     ("recognizer", ["-p", "object_size:=1"], "expecting type 'DOUBLE'"),  # an integer for a double
     ("recognizer", ["-p", "checkpoint:=/nonexistent.pt"], "/nonexistent.pt: no such file"),
+    ("recognizer", ["-p", "object_size:=1e300"], "parameter object_size must be a finite number in"),
+    ("recognizer", ["-p", "min_elevation:=50.0", "-p", "max_elevation:=10.0"],
+     "min_elevation (50) must not exceed max_elevation (10)"),
     ("simulated_camera", ["-p", "dropout:=1.5"], "parameter dropout must be a finite number in"),
     ("simulated_camera", ["-p", "index:=100000"], "index 100000 is out of range"),
 ])
