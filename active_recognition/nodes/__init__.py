@@ -41,7 +41,7 @@ def guarded(node, callback, on_error=None, throttle=2.0):
     """`callback`, with any exception it raises logged with its traceback (at most once in
     `throttle` seconds per callback) and counted in node.callback_errors, instead of escaping
     into the executor, which would stop the node; returns on_error(*args) then, if given."""
-    last = [-throttle]
+    last, name = [-throttle], getattr(callback, "__name__", None) or repr(callback)
 
     @functools.wraps(callback)
     def run(*args):
@@ -51,7 +51,7 @@ def guarded(node, callback, on_error=None, throttle=2.0):
             node.callback_errors = getattr(node, "callback_errors", 0) + 1
             if time.monotonic() - last[0] >= throttle:
                 last[0] = time.monotonic()
-                node.get_logger().error(f"{callback.__name__} failed ({node.callback_errors} "
+                node.get_logger().error(f"{name} failed ({node.callback_errors} "
                                         f"so far); going on:\n{traceback.format_exc()}")
             return on_error(*args) if on_error is not None else None
     return run

@@ -85,7 +85,11 @@ class DemoClient(Node):
         self.create_subscription(String, "recognition/result", self.on_result, 10)
 
     def on_result(self, msg):
-        self.result = json.loads(msg.data)
+        try:
+            self.result = json.loads(msg.data)
+        except ValueError:
+            self.get_logger().warn(f"recognition/result is not JSON: {msg.data[:80]!r}")
+            return
         self.arrived.set()
 
 
