@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
 import torch
 
 from .geometry import wrap_view
@@ -61,12 +62,18 @@ class Episode:
     exploration_std: float = 0.0  # > 0: sample increments from N(FC_loc, std^2) (REINFORCE)
     explore_through: bool = False  # keep the sample's path to FC_loc (the hybrid's view gradient)
     random_views: float = 0.0  # training: each next view is a random one with this chance
+    # the views a robot can take (reach.Reach: an elevation band, views found unreachable);
+    # None = the whole sphere. Every planner's next view is kept inside it
+    reach: object = None
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
         device = next(self.model.parameters()).device
         view = torch.as_tensor(initial_view, dtype=torch.float32, device=device)
         self.view = view.reshape(-1, 2)
+        if self.reach is not None:
+            self.reach.reset()
+            self.view = self.reach.limits.clamp(self.view)
         self.hidden = self.model.init_hidden(len(self.view), device)
         self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
         self.log_probs = []  # log N(increment; FC_loc, std^2) per step, when exploring
@@ -121,9 +128,23 @@ class Episode:
         else:
             step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32,
                                              device=self.view.device)
+        if self.reach is not None:
+            step.next_view = self.reach.keep(step.next_view, self.visited())
         self.view = step.next_view
         self.views.append(self.view)
         return step
+
+    def visited(self):
+        """(steps, 2) numpy views taken so far by a single object (B = 1); empty otherwise."""
+        if len(self.view) != 1 or not self.steps:
+            return np.zeros((0, 2))
+        return torch.cat(self.views[:self.steps]).detach().cpu().numpy()
+
+    def move_to(self, view):
+        """Ask for `view` (2,) instead of the view pending (a robot could not reach that one)."""
+        self.view = torch.as_tensor(view, dtype=torch.float32,
+                                    device=self.view.device).reshape(self.view.shape)
+        self.views[-1] = self.view
 
 
 def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean",

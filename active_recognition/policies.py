@@ -14,6 +14,10 @@
 
 """View planners. Each drives the same Episode: given the episode and its last step, the next view.
 
+Every planner keeps to the episode's `reach` (reach.py) when it has one: the candidate-based ones
+(imitation, oracle) mask the candidates it forbids, random samples its band, and the continuous
+ones (learned, reinforce, straight, fixed) are clamped into it by Episode.step.
+
 learned    -- the model's own FC_loc (the episode's default; `None` here)
 random     -- uniform on the sphere
 straight   -- a straight path round the sphere from the initial view (Pairwise, 3DShapeNets)
@@ -49,6 +53,9 @@ class RandomPlanner:
         self.rng = np.random.default_rng(seed)
 
     def next_view(self, episode, step):
+        reach = getattr(episode, "reach", None)
+        if reach is not None:  # uniform on the band the robot can reach
+            return reach.limits.random_views(self.rng, len(episode.view))
         return geometry.random_views(self.rng, len(episode.view))
 
 
@@ -75,6 +82,12 @@ class FixedPlanner:
         if episode.steps <= len(self.path):
             return np.repeat(self.path[episode.steps - 1][None], len(episode.view), 0)
         return self.random.next_view(episode, step)
+
+
+def reachable(episode, candidates):
+    """(K,) bool: the candidates (K, 2) the episode's robot can take (all without a reach)."""
+    reach = getattr(episode, "reach", None)
+    return np.ones(len(candidates), bool) if reach is None else reach.allows(candidates)
 
 
 def nearest_candidates(views, candidates):
@@ -105,6 +118,7 @@ class ImitationPlanner:
         with torch.no_grad():
             scores = episode.model.score_views(episode.hidden).cpu().numpy()
         scores[visited_mask(episode, self.candidates)] = -np.inf
+        scores[:, ~reachable(episode, self.candidates)] = -np.inf
         return self.candidates[scores.argmax(1)]
 
 
@@ -158,11 +172,12 @@ class OraclePlanner(CandidateFeatures):
     def next_view(self, episode, step):
         device = episode.view.device
         feats = torch.stack([self.of(episode.model, i, device) for i in range(len(self.cameras))])
-        visited = visited_mask(episode, self.candidates)
-        if visited.all(1).any():  # every candidate seen: the teacher has nothing new to offer
-            visited[visited.all(1)] = False
+        out = ~reachable(episode, self.candidates)[None]
+        barred = visited_mask(episode, self.candidates) | out
+        spent = barred.all(1)  # every reachable candidate seen: the teacher has nothing new
+        barred[spent] = out[0] if not out.all() else False
         pick = teacher_choice(episode.model, feats, episode.hidden, self.labels.to(device),
-                              self.candidates, visited)
+                              self.candidates, barred)
         return self.candidates[pick.cpu().numpy()]
 
 
@@ -174,12 +189,13 @@ class GreedyPlanner(CandidateFeatures):
 
     def next_view(self, episode, step):
         model, best = episode.model, []
+        masked = torch.as_tensor(~reachable(episode, self.candidates), device=episode.view.device)
         with torch.no_grad():
             for i in range(len(self.cameras)):
                 feats = self.of(model, i, episode.view.device)
                 p = lookahead_logits(model, feats[None], episode.hidden[i:i + 1],
                                      self.candidates)[0].softmax(-1)
-                h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1)
+                h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1).masked_fill(masked, math.inf)
                 best.append(self.candidates[int(h.argmin())])
         return np.stack(best)
 

@@ -18,6 +18,8 @@ Wraps one Episode (B = 1) with what a real camera needs: every image, with its K
 was taken from, is reprojected into the model's virtual camera (reprojection.py), and the
 episode goes on from the view actually taken. An image that shows too little of the object is
 not classified; after `max_empty_views` of them in a row the episode ends with "no_object".
+Views keep within the robot's reach (reach.py: an elevation band, and the views it could not
+reach, `view_unreachable`); when no view can be had the episode ends with "no_image".
 The next view comes from a planner (policies.py); "auto" is the one the checkpoint names as its
 best (`default_planner`, measured by benchmarks/planners.py), else FC_view when the model has
 one, else its own FC_loc. The ROS node is a thin shell around this class.
@@ -33,6 +35,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .policies import PLANNERS, PRIVILEGED, make_planner
+from .reach import Reach, ViewLimits
 from .reprojection import auto_standoff, reproject, seen_centre
 from .validation import InputError, option, validate
 
@@ -52,8 +55,10 @@ def choose_planner(name, model, ckpt):
 
 @dataclass
 class SensingConfig:
-    object_size: float = option(1.0, lo=0, lo_open=True)  # metres: the object box's longest edge
-    standoff: float = option(0.0, lo=0)  # metres from the object's centre to the camera; 0 = auto
+    # metres: the object box's longest edge (a real object: 1 mm to 100 m)
+    object_size: float = option(1.0, lo=1e-3, hi=100)
+    # metres from the object's centre to the camera (up to plausible.MAX_DISTANCE); 0 = auto
+    standoff: float = option(0.0, lo=0, hi=100)
     # fewer object pixels (share of the model's image): the image is empty
     min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
     max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
@@ -62,6 +67,8 @@ class SensingConfig:
     # (along the axes it sees whole; the first TRUSTED ignored), as a detector's centre is off:
     # at most this far (x object_size); 0 = trust the frame
     recentre: float = option(0.25, lo=0, hi=1)
+    # so many views in a row found unreachable (view_unreachable) end the episode: no_image
+    max_unreachable_views: int = option(2, lo=1, hi=MAX_VIEWS)
 
     def __post_init__(self):
         validate(self)
@@ -69,7 +76,9 @@ class SensingConfig:
 
 @dataclass
 class Observation:
-    status: str              # classified (go on), recognized (stopped), empty, no_object (ended)
+    # classified (go on), recognized (stopped), empty, moved (another view after an unreachable
+    # one), no_object or no_image (ended)
+    status: str
     probs: np.ndarray | None  # (C,); None when the image was not classified
     label: str
     entropy: float | None
@@ -81,7 +90,7 @@ class Observation:
 
     def result(self):
         """The JSON-able result of an episode that has ended (recognition/result)."""
-        found = self.status == "recognized"
+        found = self.status == "recognized" or (self.status == "no_image" and self.probs is not None)
         return {"status": self.status, "label": self.label if found else "",
                 "probability": float(self.probs.max()) if found else 0.0,
                 "entropy": self.entropy if found else None, "views": self.views}
@@ -89,16 +98,18 @@ class Observation:
 
 class ActiveRecognizer:
     def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto",
-                 sensing=SensingConfig()):
+                 sensing=SensingConfig(), limits=ViewLimits()):
         self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path or None)
         size = self.model.config.image_size
         self.camera = CameraConfig(size, size, radius=self.model.config.radius)
         self.sensing = sensing
         self.planner = choose_planner(planner, self.model, ckpt)
+        self.reach = Reach(limits)
         self.episode = Episode(self.model, episode, make_planner(
-            self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")))
+            self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")),
+            reach=self.reach)
         self.rng = np.random.default_rng(seed)
-        self.initial_views = geometry.fibonacci_views(50)
+        self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
         self.reset()
 
     @property
@@ -106,14 +117,16 @@ class ActiveRecognizer:
         return self.camera.radius
 
     def reset(self, view=None, sensing=None):
-        """Start a new object at `view` (default: a random one of the 50 initial views), with
-        new sensing settings if given (they apply from here on)."""
+        """Start a new object at `view` (default: a random one of the initial views: the paper's
+        50 within the elevation limits), with new sensing settings if given (they apply from
+        here on)."""
         if sensing is not None:
             self.sensing = sensing
         if view is None:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
         self.episode.reset(torch.tensor(view, dtype=torch.float32))
         self.empty_views, self.no_object = 0, False
+        self.no_image, self.unreachable_run = False, (None, 0)
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
         return tuple(float(v) for v in self.episode.view[0])
 
@@ -137,7 +150,7 @@ class ActiveRecognizer:
 
     @property
     def done(self):
-        return self.no_object or bool(self.episode.done[0])
+        return self.no_object or self.no_image or bool(self.episode.done[0])
 
     def shot(self, metres, k=None, position=None, rotation=None):
         """A metric depth image (H, W), NaN = no return, with its camera K and pose in the object
@@ -207,3 +220,28 @@ class ActiveRecognizer:
 
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])
+
+    def view_unreachable(self) -> Observation:
+        """No image came for the view asked for (a robot's arm could not get there, or the
+        camera is silent): no planner asks for it again, and the episode moves to another view,
+        the planner's next choice if it has one, else the nearest free initial view ("moved");
+        it ends with "no_image" when no free view is left or after `max_unreachable_views` in a
+        row. The label so far, if any view was classified, stays in the result."""
+        if self.done:
+            raise RuntimeError("the episode has ended; reset() for a new object")
+        key = (self.episode.steps, self.empty_views)  # changes with every image observed
+        run = self.unreachable_run[1] + 1 if self.unreachable_run[0] == key else 1
+        self.unreachable_run = (key, run)
+        self.reach.block(self.view)
+        free = self.reach.free_candidates(self.episode.visited())
+        self.no_image = run >= self.sensing.max_unreachable_views or not len(free)
+        if not self.no_image:
+            planner = self.episode.planner
+            choice = planner.next_view(self.episode, None) if planner is not None else self.view
+            self.episode.move_to(self.reach.keep(np.asarray(choice, np.float64).reshape(1, 2),
+                                                 self.episode.visited())[0])
+        probs = self.episode.probs[-1][0].detach().numpy() if self.episode.steps else None
+        label = self.classes[int(probs.argmax())] if probs is not None else ""
+        entropy = float(self.episode.entropies[-1][0]) if probs is not None else None
+        return Observation("no_image" if self.no_image else "moved", probs, label, entropy,
+                           self.view, self.no_image, self.episode.steps, self.view, 0.0)

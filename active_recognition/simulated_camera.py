@@ -16,7 +16,8 @@
 
 `SensorConfig` says what kind of camera: its K (any size, `fov` or fx/fy/cx/cy), Kinect-style
 depth noise, random and edge dropout, a working range, millimetre quantisation (16UC1), a floor
-under the object, an arm that misses the requested pose, and the object's size in metres.
+under the object (opaque from both sides; a pose below it cannot be reached), an arm that
+misses the requested pose or, now and then, never gets there, and the object's size in metres.
 `PRESETS` holds the model's own virtual camera and a RealSense-like one. No ROS here.
 """
 from __future__ import annotations
@@ -70,9 +71,11 @@ class SensorConfig:
     min_range: float = option(0.0, lo=0)     # metres; no return nearer
     max_range: float = option(0.0, lo=0)     # metres; no return farther; 0 = unlimited
     encoding: str = option("32FC1", choices=ENCODINGS)  # 16UC1 = whole millimetres
-    floor: bool = option(False)   # a plane under the object, seen from above
+    floor: bool = option(False)   # an opaque plane under the object; no pose below it
     # the arm misses each requested pose by this orbit angle
     pose_error_deg: float = option(0.0, lo=0, hi=90, hi_open=True)
+    # share of requests the arm never reaches (its motion planner fails): no image for them
+    unanswered: float = option(0.0, lo=0, hi=1)
     object_size: float = option(1.0, lo=0, lo_open=True)  # metres: the mesh's longest box edge
 
     def __post_init__(self):
@@ -147,20 +150,27 @@ class SimulatedCamera:
         self.camera = DepthCamera(verts, faces, config, intrinsics=self.k)
         self.description, self.floor_z = description, float(verts[:, 2].min())
 
+    def reachable(self, position):
+        """Whether the arm can take a camera to `position` (metres): not below the floor."""
+        return not (self.sensor.floor and np.asarray(position, np.float64)[2] < self.floor_z)
+
     def capture(self, position, optical_rotation):
         """Depth at a requested pose -> (metres (H, W) NaN = no return, actual position,
-        actual optical rotation): the arm's error applied, then the sensor's."""
+        actual optical rotation): the arm's error applied, then the sensor's. None when the arm
+        does not get there: a pose below the floor, or one of the `unanswered` share."""
         s = self.sensor
+        if not self.reachable(position) or (s.unanswered and self.rng.random() < s.unanswered):
+            return None
         position, rotation = orbit(position, optical_rotation, math.radians(s.pose_error_deg),
                                    self.rng)
         hits = self.camera.trace_poses(position[None], geometry.rotation_from_optical(rotation)[None])
         z = self.camera.zdepth(hits)[0].astype(np.float64)
-        if s.floor and position[2] > self.floor_z:  # one-sided: views from below see through it
+        if s.floor:  # opaque from both sides: from below (an arm's error) it hides everything
             rays = self.k.rays()
-            down = (rays @ rotation.T)[..., 2]  # world z per unit of optical depth
+            dz = (rays @ rotation.T)[..., 2]  # world z per unit of optical depth
             with np.errstate(divide="ignore", invalid="ignore"):
-                floor = np.where(down < 0, (self.floor_z - position[2]) / down, np.inf)
-            z = np.minimum(z, floor)
+                t = (self.floor_z - position[2]) / dz
+            z = np.minimum(z, np.where(np.isfinite(t) & (t > 0), t, np.inf))
         if s.noise == "kinect":
             noise = s.noise_scale * self.rng.standard_normal(z.shape)
             seen = np.isfinite(z)

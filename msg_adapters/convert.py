@@ -118,6 +118,9 @@ def camera_info_to_intrinsics(msg: CameraInfo) -> geometry.Intrinsics:
         raise AdapterError("camera_info K must hold 9 finite numbers")
     if not k.any():
         raise AdapterError("camera_info K is all zeros: the camera is uncalibrated")
+    if k[6] != 0 or k[7] != 0 or k[8] != 1 or k[3] != 0:
+        raise AdapterError(f"camera_info K must be [fx 0 cx, 0 fy cy, 0 0 1]; its k[3], k[6], k[7] "
+                           f"and k[8] are {k[3]:g}, {k[6]:g}, {k[7]:g} and {k[8]:g}")
     try:
         return geometry.Intrinsics(int(msg.width), int(msg.height), k[0], k[4], k[2], k[5])
     except ValueError as e:

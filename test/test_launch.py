@@ -12,8 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The launch file names only what the package builds and installs (launch has no wheel, so the
-file is parsed, not run)."""
+"""The launch files name only what the package builds and installs, and remap only names the node
+has (launch has no wheel, so the files are parsed, not run)."""
 import os
 import re
 import runpy
@@ -26,7 +26,14 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 LAUNCH = ROOT / "launch" / "active_recognition.launch.xml"
+REAL = ROOT / "launch" / "real_camera.launch.xml"
 SHARE = "$(find-pkg-share active_recognition)/"
+NAMES = {  # the topics each node has, as remap can name them
+    "recognizer": {"depth/image", "depth/camera_info", "camera/pose", "next_view",
+                   "recognition/probabilities", "recognition/classes", "recognition/label",
+                   "recognition/result", "recognition/views"},
+    "simulated_camera": {"next_view", "depth/image", "depth/camera_info", "camera/pose"},
+}
 
 
 def setup_kwargs():
@@ -60,6 +67,16 @@ def launch_problems(path, kwargs):
             problems.append(f"{where}: package {node.get('pkg')!r} is not {package!r}")
         if node.get("exec") not in executables:
             problems.append(f"{where}: executable {node.get('exec')!r} is not a console script")
+        for remap in node.iter("remap"):
+            if remap.get("from") not in NAMES.get(node.get("exec"), ()):
+                problems.append(f"{where}: remaps {remap.get('from')!r}, which it does not have")
+        for env in node.iter("env"):
+            value = re.sub(r"\$\(var (\w+)\)", lambda m: args.get(m.group(1)) or "", env.get("value", ""))
+            relative = value[len(SHARE):]
+            if value.startswith(SHARE) and (f"share/{package}/{relative}" not in files
+                                            or not (ROOT / relative).is_file()):
+                problems.append(f"{where}: {env.get('name')} names {relative!r}, which setup.py "
+                                f"does not install")
         for param in node.iter("param"):
             source = re.sub(r"\$\(var (\w+)\)", lambda m: args.get(m.group(1)) or "", param.get("from", ""))
             if not source.startswith(SHARE):
@@ -92,3 +109,36 @@ def test_a_launch_file_naming_what_does_not_exist_is_caught(tmp_path, change, pr
     bad = tmp_path / "bad.launch.xml"
     bad.write_text(LAUNCH.read_text().replace(*change))
     assert any(problem in p for p in launch_problems(bad, setup_kwargs())), problem
+
+
+def test_the_real_camera_launch_file_starts_the_recognizer_alone_remapped_to_a_realsense():
+    kwargs = setup_kwargs()
+    root = ET.parse(REAL).getroot()
+    assert [n.get("exec") for n in root.iter("node")] == ["recognizer"]
+    assert launch_problems(REAL, kwargs) == []
+    assert "share/active_recognition/launch/real_camera.launch.xml" in installed(kwargs)
+    args = {a.get("name"): a.get("default") for a in root.iter("arg")}
+    remaps = {r.get("from"): re.sub(r"\$\(var (\w+)\)", lambda m: args[m.group(1)], r.get("to"))
+              for r in root.iter("remap")}
+    assert remaps["depth/image"] == "/camera/camera/depth/image_rect_raw"
+    assert remaps["depth/camera_info"] == "/camera/camera/depth/camera_info"
+    assert "fastdds_large_frames.xml" in REAL.read_text()  # the camera-side transport note
+
+
+@pytest.mark.parametrize("change,problem", [
+    (('from="depth/image"', 'from="depth/imgae"'), "remaps 'depth/imgae', which it does not have"),
+])
+def test_a_remap_of_a_name_the_node_lacks_is_caught(tmp_path, change, problem):
+    bad = tmp_path / "bad.launch.xml"
+    bad.write_text(REAL.read_text().replace(*change))
+    assert any(problem in p for p in launch_problems(bad, setup_kwargs())), problem
+
+
+def test_the_shipped_fastdds_profile_is_installed_and_set_for_the_simulated_camera(tmp_path):
+    kwargs = setup_kwargs()
+    assert "share/active_recognition/config/fastdds_large_frames.xml" in installed(kwargs)
+    env = [e for n in ET.parse(LAUNCH).getroot().iter("node") for e in n.iter("env")]
+    assert [e.get("name") for e in env] == ["FASTRTPS_DEFAULT_PROFILES_FILE"]
+    bad = tmp_path / "bad.launch.xml"
+    bad.write_text(LAUNCH.read_text().replace("fastdds_large_frames.xml", "fastdds_missing.xml"))
+    assert any("does not install" in p for p in launch_problems(bad, kwargs))

@@ -38,6 +38,7 @@ from active_recognition.datasets import default_cache_dir, open_dataset  # noqa:
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
+from active_recognition.reach import ViewLimits  # noqa: E402
 from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
 from active_recognition.simulated_camera import SimulatedCamera  # noqa: E402
 
@@ -56,8 +57,9 @@ def loop():
 
 def direct(index, seed):
     """The same episode without ROS: same initial-view draws, renders from the same poses (the
-    very first request goes out before any CameraInfo, so at the model's radius)."""
-    core = ActiveRecognizer(seed=seed)
+    very first request goes out before any CameraInfo, so at the model's radius), within the
+    node's default elevation limits."""
+    core = ActiveRecognizer(seed=seed, limits=ViewLimits(0.0, 90.0))
     sim = SimulatedCamera()
     sim.load(dataset="procedural", split="test", index=index)
     results, k = [], None
@@ -92,11 +94,13 @@ def test_malformed_images_are_rejected_and_the_node_keeps_answering(loop):
     pub = bad.create_publisher(Image, "depth/image", qos_profile_sensor_data)
     assert spin_until(executor, lambda: pub.get_subscription_count() > 0, 10)
     recognizer.core.reset()
-    good = ma.metres_to_image(np.full((128, 128), 0.8, np.float32))
+    good = ma.metres_to_image(np.full((128, 128), 0.8, np.float32),
+                              recognizer.get_clock().now().to_msg())
     bads = []
     for change in (dict(encoding="rgb8"), dict(data=b"\x00" * 7), dict(height=0, data=b""),
                    dict(step=3)):
-        msg = ma.metres_to_image(np.full((64, 64), 0.8, np.float32))
+        msg = ma.metres_to_image(np.full((64, 64), 0.8, np.float32),
+                                 recognizer.get_clock().now().to_msg())  # refused for `change`
         for k, v in change.items():
             setattr(msg, k, v)
         bads.append(msg)
@@ -247,7 +251,8 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
         assert spin_until(executor, client.reset.service_is_ready, 10)
         recognizer.core.rng = np.random.default_rng(0)
         assert recognize(executor, client)["status"] == "recognized"
-        asked = recognizer.core.initial_views[np.random.default_rng(0).integers(50)]
+        initial = recognizer.core.initial_views
+        asked = initial[np.random.default_rng(0).integers(len(initial))]
         taken = recognizer.core.views_taken()[0]
         expected = geometry.view_from_position(where(ma.view_to_pose(*asked))[0])[1:]
         np.testing.assert_allclose(taken, expected, atol=1e-5)
@@ -259,6 +264,9 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
     ("recognizer", ["-p", "max_views:=0"], "parameter max_views must be an integer from 1 to 1000"),
     ("recognizer", ["-p", "object_size:=1"], "expecting type 'DOUBLE'"),  # an integer for a double
     ("recognizer", ["-p", "checkpoint:=/nonexistent.pt"], "/nonexistent.pt: no such file"),
+    ("recognizer", ["-p", "object_size:=1e300"], "parameter object_size must be a finite number in"),
+    ("recognizer", ["-p", "min_elevation:=50.0", "-p", "max_elevation:=10.0"],
+     "min_elevation (50) must not exceed max_elevation (10)"),
     ("simulated_camera", ["-p", "dropout:=1.5"], "parameter dropout must be a finite number in"),
     ("simulated_camera", ["-p", "index:=100000"], "index 100000 is out of range"),
 ])

@@ -13,7 +13,10 @@
 # limitations under the License.
 
 """Thin rclpy shells around the core (the only place rclpy is imported)."""
+import functools
 import sys
+import time
+import traceback
 
 
 def declare_parameters(node, params, checks, runtime=()):
@@ -32,6 +35,42 @@ def declare_parameters(node, params, checks, runtime=()):
 def check_parameter(checks, name, value):
     """value as its Check normalises it; InputError naming the parameter otherwise."""
     return checks[name](f"parameter {name}", value) if name in checks else value
+
+
+def guarded(node, callback, on_error=None, throttle=2.0):
+    """`callback`, with any exception it raises logged with its traceback (at most once in
+    `throttle` seconds per callback) and counted in node.callback_errors, instead of escaping
+    into the executor, which would stop the node; returns on_error(*args) then, if given."""
+    last, name = [-throttle], getattr(callback, "__name__", None) or repr(callback)
+
+    @functools.wraps(callback)
+    def run(*args):
+        try:
+            return callback(*args)
+        except Exception:  # a bug, not an input: the node logs it and goes on
+            node.callback_errors = getattr(node, "callback_errors", 0) + 1
+            if time.monotonic() - last[0] >= throttle:
+                last[0] = time.monotonic()
+                node.get_logger().error(f"{name} failed ({node.callback_errors} "
+                                        f"so far); going on:\n{traceback.format_exc()}")
+            return on_error(*args) if on_error is not None else None
+    return run
+
+
+class Throttled:
+    """Warnings throttled per key (a field, a topic), each refusal counted and the latest kept:
+    one bad input does not hide another's warning."""
+
+    def __init__(self, logger, period=2.0):
+        self.logger, self.period, self.last, self.counts, self.latest = logger, period, {}, {}, {}
+
+    def __call__(self, key, text):
+        self.counts[key] = self.counts.get(key, 0) + 1
+        self.latest[key] = text
+        now = time.monotonic()
+        if now - self.last.get(key, -self.period) >= self.period:
+            self.last[key] = now
+            self.logger.warn(f"{text} ({self.counts[key]} so far)")
 
 
 def run_node(node_class, args=None):

@@ -85,7 +85,11 @@ class DemoClient(Node):
         self.create_subscription(String, "recognition/result", self.on_result, 10)
 
     def on_result(self, msg):
-        self.result = json.loads(msg.data)
+        try:
+            self.result = json.loads(msg.data)
+        except ValueError:
+            self.get_logger().warn(f"recognition/result is not JSON: {msg.data[:80]!r}")
+            return
         self.arrived.set()
 
 
@@ -142,10 +146,12 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             camera.set_parameters([Parameter("index", value=int(index))])
             truth = test.classes[test.items[index][1]]
             start = time.perf_counter()
-            result = recognize(executor, client)
+            result = recognize(executor, client, timeout=30.0)  # no_image takes up to 12 s
             ms = (time.perf_counter() - start) * 1e3
             if result is None or result["status"] != "recognized":
-                why = "no result (timed out)" if result is None else "no object seen"
+                why = ("no result (timed out)" if result is None else
+                       {"no_object": "no object seen",
+                        "no_image": "no image came (no view could be had)"}[result["status"]])
                 out(f"object {n + 1}/{len(order)}: true={truth:<12} {why}")
                 rows.append((False, 0, ms))
                 continue

@@ -15,7 +15,10 @@
 """recognizer: depth images in, class probabilities and the next view out (one object at a time).
 
 Any depth camera: each image is paired with the latest CameraInfo and with the camera pose of
-its stamp, and the core reprojects it into the model's own camera (reprojection.py).
+its stamp, and the core reprojects it into the model's own camera (reprojection.py). Every input
+is checked on arrival (plausible.py) and a refused one never reaches the core; a request no
+usable image answers is sent again, then its view is given up for another (the episode ends
+`no_image` when none can be had); no exception escapes a callback.
 """
 import json
 import sys
@@ -23,19 +26,24 @@ import time
 from collections import deque
 from dataclasses import replace
 
+import numpy as np
 from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rclpy.node import Node
-from rclpy.qos import QoSDurabilityPolicy, QoSProfile, qos_profile_sensor_data
+from rclpy.qos import QoSDurabilityPolicy, QoSProfile
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float32MultiArray, String
 from std_srvs.srv import Trigger
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
+from active_recognition import plausible
 from active_recognition.episode import EpisodeConfig
-from active_recognition.nodes import check_parameter, declare_parameters, run_node
+from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
+    run_node
+from active_recognition.nodes.inputs import QOS_MODES, SensorSubscription
 from active_recognition.nodes.recorder import Recorder
+from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, NODE_PLANNERS, SensingConfig
 from active_recognition.validation import Check, InputError, SEED_MAX, checks
 
@@ -50,8 +58,8 @@ PARAMS = {  # name: (default, type, description)
     "seed": (0, INT, "seed of the random initial views"),
     "frame_id": ("object", STR, "frame of next_view: the object's"),
     "require_fresh_images": (True, BOOL, "ignore images stamped before the last next_view request"),
-    "object_size": (1.0, DBL, "metres: longest edge of the object's bounding box (from the next "
-                              "reset)"),
+    "object_size": (1.0, DBL, "metres: longest edge of the object's bounding box, 0.001..100 "
+                              "(from the next reset)"),
     "standoff": (0.0, DBL, "metres from the object's centre to the camera in next_view; 0 = auto "
                            "(the object fills the camera's narrower field of view, 10 % margin)"),
     "pose_tolerance": (0.05, DBL, "seconds: the camera/pose nearest an image's stamp within this is "
@@ -59,6 +67,21 @@ PARAMS = {  # name: (default, type, description)
     "min_object_fraction": (0.003, DBL, "images showing less of the object (share of the model's "
                                         "pixels) are not classified"),
     "max_empty_views": (3, INT, "this many empty images in a row end the episode: no_object"),
+    "image_qos": ("auto", STR, "reliability of depth/image, depth/camera_info and camera/pose "
+                               "(keep-last 1): auto (what their publishers offer), reliable or "
+                               "sensor_data (best effort)"),
+    "view_timeout": (3.0, DBL, "seconds: a next_view no usable image answers within this is sent "
+                               "again"),
+    "max_retries": (1, INT, "resends of one view; when they go unanswered too the view is "
+                            "unreachable and the planner picks another"),
+    "max_unreachable_views": (2, INT, "this many unreachable views in a row (or none left) end "
+                                      "the episode: no_image"),
+    "min_elevation": (0.0, DBL, "degrees above the plane through the object's centre (object "
+                                "frame, z up): no view from lower; 0 suits an object on a floor "
+                                "or table"),
+    "max_elevation": (90.0, DBL, "degrees: no view from higher; 90 = from straight above"),
+    "max_clock_offset": (5.0, DBL, "seconds: images and poses stamped further from this node's "
+                                   "clock are refused"),
     "box_margin": (0.1, DBL, "keep points this far (x object_size) outside the object's box"),
     "recentre": (0.25, DBL, "at an object's first view, move its centre toward the centre of the "
                             "box of what is seen (the first 5 % ignored), at most this far "
@@ -67,12 +90,17 @@ PARAMS = {  # name: (default, type, description)
                         "shutdown); empty = off"),
 }
 SENSING = ("object_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin",
-           "recentre")
-CHECKS = {**checks(EpisodeConfig), **checks(SensingConfig),
+           "recentre", "max_unreachable_views")
+CHECKS = {**checks(EpisodeConfig), **checks(SensingConfig), **checks(ViewLimits),
           "checkpoint": Check(str), "planner": Check(str, choices=NODE_PLANNERS),
           "seed": Check(int, lo=0, hi=SEED_MAX), "frame_id": Check(str, length=(1, None)),
-          "require_fresh_images": Check(bool), "pose_tolerance": Check(float, lo=0, hi=60)}
-RUNTIME = ("pose_tolerance",) + SENSING  # the rest are read once, at start
+          "require_fresh_images": Check(bool), "pose_tolerance": Check(float, lo=0, hi=60),
+          "image_qos": Check(str, choices=QOS_MODES),
+          "view_timeout": Check(float, lo=0.01, hi=3600), "max_retries": Check(int, lo=0, hi=100),
+          "max_clock_offset": Check(float, lo=0.001, hi=86400)}
+TIMING = ("pose_tolerance", "view_timeout", "max_retries", "max_clock_offset")
+RUNTIME = TIMING + SENSING  # the rest are read once, at start
+QOS_CHECK_S = 1.0  # how often `image_qos: auto` looks at the publishers again
 
 
 class Recognizer(Node):
@@ -80,12 +108,17 @@ class Recognizer(Node):
         super().__init__("recognizer", **kwargs)
         p = declare_parameters(self, PARAMS, CHECKS, RUNTIME)
         self.frame_id, self.fresh_only = p["frame_id"], p["require_fresh_images"]
-        self.pose_tolerance = p["pose_tolerance"]
+        for name in TIMING:
+            setattr(self, name, p[name])
         self.sensing = SensingConfig(**{k: p[k] for k in SENSING})
         self.core = ActiveRecognizer(p["checkpoint"] or None,
                                      EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"],
-                                     p["planner"], self.sensing)
-        self.add_on_set_parameters_callback(self.on_parameters)
+                                     p["planner"], self.sensing,
+                                     ViewLimits(p["min_elevation"], p["max_elevation"]))
+        self.refuse = Throttled(self.get_logger())
+        self.add_on_set_parameters_callback(guarded(
+            self, self.on_parameters,
+            lambda params: SetParametersResult(successful=False, reason="internal error")))
         latched = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
         self.pub_classes = self.create_publisher(String, "recognition/classes", latched)
         self.pub_probs = self.create_publisher(Float32MultiArray, "recognition/probabilities", 10)
@@ -94,17 +127,19 @@ class Recognizer(Node):
         self.pub_view = self.create_publisher(PoseStamped, "next_view", 10)
         self.pub_markers = self.create_publisher(MarkerArray, "recognition/views", 10)
         # info and pose first: when all three are ready at once, the executor takes them in order
-        self.create_subscription(CameraInfo, "depth/camera_info", self.on_info,
-                                 qos_profile_sensor_data)
-        self.create_subscription(PoseStamped, "camera/pose", self.on_pose, qos_profile_sensor_data)
-        self.create_subscription(Image, "depth/image", self.on_image, qos_profile_sensor_data)
-        self.create_service(Trigger, "~/reset", self.on_reset)
-        self.create_timer(0.01, self.on_timer)
+        self.inputs = [SensorSubscription(self, kind, topic, guarded(self, callback), p["image_qos"])
+                       for kind, topic, callback in ((CameraInfo, "depth/camera_info", self.on_info),
+                                                     (PoseStamped, "camera/pose", self.on_pose),
+                                                     (Image, "depth/image", self.on_image))]
+        self.create_service(Trigger, "~/reset", guarded(self, self.on_reset, self.reset_failed))
+        self.create_timer(0.01, guarded(self, self.on_timer))
         self.recorder = Recorder(self, p["record"]) if p["record"] else None
         if self.recorder is not None:
             self.get_logger().info(f"recording the loop's topics to {self.recorder.path}")
         self.pub_classes.publish(String(data=json.dumps(self.core.classes)))
         self.received = self.processed = self.idle = self.stale = self.rejected = self.empty = 0
+        self.resent = self.unreachable = 0
+        self.waiting_since, self.tries, self.qos_checked = None, 0, time.monotonic()
         self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
         self.poses = deque(maxlen=200)  # (stamp seconds, position, optical rotation)
         self.intrinsics, self.pending, self.request_stamp, self.told = None, None, None, set()
@@ -129,15 +164,21 @@ class Recognizer(Node):
             values = {p.name: check_parameter(CHECKS, p.name, p.value) for p in params}
             sensing = replace(self.sensing, **{k: v for k, v in values.items() if k in SENSING})
         except InputError as e:
+            self.refuse("parameter", f"parameter refused: {e}")
             return SetParametersResult(successful=False, reason=str(e))
         self.sensing = sensing
-        self.pose_tolerance = values.get("pose_tolerance", self.pose_tolerance)
+        for name in TIMING:
+            setattr(self, name, values.get(name, getattr(self, name)))
         return SetParametersResult(successful=True)
 
-    def request_view(self):
+    def request_view(self, again=False):
+        """Publish next_view: the core's next view, or (`again`) the same one once more."""
         position, rotation = self.core.requested_pose(self.intrinsics)
         msg = ma.position_to_pose(position, rotation, self.frame_id, self.get_clock().now().to_msg())
-        self.request_stamp = (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        if not again:  # an answer to any try of this view is fresh
+            self.request_stamp, self.tries = (msg.header.stamp.sec, msg.header.stamp.nanosec), 0
+        self.tries += 1
+        self.waiting_since = time.monotonic()
         self.pub_view.publish(msg)
 
     def on_reset(self, request, response):
@@ -147,24 +188,36 @@ class Recognizer(Node):
         response.success, response.message = True, "new object; first view requested"
         return response
 
+    def reset_failed(self, request, response):
+        response.success, response.message = False, "reset failed (logged); try again"
+        return response
+
     def reject(self, reason):
         self.rejected += 1
-        self.get_logger().warn(f"depth image rejected ({self.rejected} so far): {reason}",
-                               throttle_duration_sec=2.0)
+        self.refuse("depth/image", f"depth image refused: {reason}")
+
+    def now(self):
+        return self.get_clock().now().nanoseconds * 1e-9
 
     def on_info(self, msg):
         try:
-            self.intrinsics = ma.camera_info_to_intrinsics(msg)
-        except ma.AdapterError as e:
-            self.get_logger().warn(f"camera_info ignored: {e}", throttle_duration_sec=2.0)
+            k = plausible.check_intrinsics(ma.camera_info_to_intrinsics(msg))
+        except ValueError as e:  # AdapterError, InputError
+            return self.refuse("depth/camera_info", f"camera_info refused: {e}")
+        self.intrinsics = k
 
     def on_pose(self, msg):
         try:
+            if msg.header.frame_id != self.frame_id:
+                raise InputError(f"camera/pose header.frame_id {msg.header.frame_id!r} is not the "
+                                 f"object frame {self.frame_id!r} (parameter frame_id)")
+            seconds = plausible.check_clock(ma.stamp_seconds(msg.header.stamp), self.now(),
+                                            self.max_clock_offset, "camera/pose")
             position, rotation = ma.pose_to_camera(msg)
-        except ma.AdapterError as e:
-            self.get_logger().warn(f"camera/pose ignored: {e}", throttle_duration_sec=2.0)
-            return
-        self.poses.append((ma.stamp_seconds(msg.header.stamp), position, rotation))
+            plausible.check_camera_position(position)
+        except ValueError as e:
+            return self.refuse("camera/pose", f"camera/pose refused: {e}")
+        self.poses.append((seconds, position, rotation))
         self.expect_poses = True
         if self.pending is not None:
             pose = self.pose_at(self.pending[0])
@@ -172,6 +225,10 @@ class Recognizer(Node):
                 self.process(*self.pending[1:3], pose, self.pending[4])
 
     def on_timer(self):
+        if time.monotonic() - self.qos_checked > QOS_CHECK_S:
+            self.qos_checked = time.monotonic()
+            for sub in self.inputs:
+                sub.follow()
         if self.pending is not None and time.monotonic() - self.pending[3] > self.pose_tolerance:
             pose = self.pose_at(self.pending[0], final=True)
             if not self.poses:
@@ -179,10 +236,37 @@ class Recognizer(Node):
                 self.once("pose", "no camera/pose received: assuming each image is taken at the "
                                   "requested view")
             elif pose is None:
-                self.get_logger().warn(f"no camera/pose within pose_tolerance "
-                                       f"({self.pose_tolerance} s) of the image: assuming the "
-                                       f"requested view", throttle_duration_sec=2.0)
+                self.refuse("pose_tolerance", f"no camera/pose within pose_tolerance "
+                                              f"({self.pose_tolerance} s) of the image: assuming "
+                                              f"the requested view")
             self.process(*self.pending[1:3], pose, self.pending[4])
+        self.check_timeout()
+
+    def check_timeout(self):
+        """Send a request no usable image answered within view_timeout again; after max_retries
+        resends give its view up (the core picks another, or ends the episode: no_image)."""
+        if self.waiting_since is None or self.pending is not None or self.core.done or \
+                time.monotonic() - self.waiting_since < self.view_timeout:
+            return
+        view = "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
+        if self.tries <= self.max_retries:
+            self.resent += 1
+            self.refuse("view_timeout", f"no usable image for view {view} within view_timeout "
+                                        f"({self.view_timeout:g} s): asking again (try "
+                                        f"{self.tries + 1} of {self.max_retries + 1})")
+            return self.request_view(again=True)
+        self.unreachable += 1
+        obs = self.core.view_unreachable()
+        if obs.done:
+            self.refuse("no_image", f"view {view} unreachable after {self.tries} tries: no view "
+                                    f"can be had ({self.sensing.max_unreachable_views} "
+                                    f"unreachable in a row, or none left); the episode ends "
+                                    f"with no_image")
+            return self.finish(obs)
+        self.refuse("unreachable", f"view {view} unreachable after {self.tries} tries: asking "
+                                   f"for " + "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
+                    + " instead")
+        self.request_view()
 
     def pose_at(self, stamp, final=False):
         """(position, rotation) of the pose stamped like the image, else the nearest within
@@ -202,6 +286,11 @@ class Recognizer(Node):
             self.idle += 1
             return  # stopped: waiting for ~/reset
         stamp = (msg.header.stamp.sec, msg.header.stamp.nanosec)
+        try:
+            seconds = plausible.check_clock(ma.stamp_seconds(msg.header.stamp), self.now(),
+                                            self.max_clock_offset)
+        except InputError as e:
+            return self.reject(str(e))
         if self.fresh_only and self.request_stamp is not None and stamp < self.request_stamp:
             self.stale += 1
             return  # taken before the camera reached the requested view
@@ -216,7 +305,6 @@ class Recognizer(Node):
         elif (k.height, k.width) != metres.shape:
             return self.reject(f"image is {metres.shape[1]}x{metres.shape[0]} but the camera_info "
                                f"is for {k.width}x{k.height}")
-        seconds = ma.stamp_seconds(msg.header.stamp)
         pose = self.pose_at(seconds)
         if pose is None and self.expect_poses:  # its pose may still be on its way
             self.pending = (seconds, metres, k, time.monotonic(), start)
@@ -229,11 +317,11 @@ class Recognizer(Node):
             obs = self.core.observe(metres, k, *(pose or (None, None)))
         except ValueError as e:
             return self.reject(str(e))
+        self.waiting_since = None  # answered
         if obs.status == "empty":
             self.empty += 1
-            self.get_logger().warn(f"no object in the image ({obs.object_fraction:.2%} of the "
-                                   f"model's pixels): asking for the same view again",
-                                   throttle_duration_sec=2.0)
+            self.refuse("empty", f"no object in the image ({obs.object_fraction:.2%} of the "
+                                 f"model's pixels): asking for the same view again")
             return self.request_view()
         if obs.status != "no_object":
             self.processed += 1
@@ -245,8 +333,11 @@ class Recognizer(Node):
             self.pub_markers.publish(ma.view_markers(
                 self.core.views_taken(), self.core.standoff(self.intrinsics), self.frame_id))
         if obs.done:
-            self.request_stamp = None
-            self.pub_result.publish(String(data=json.dumps(obs.result())))
+            self.finish(obs)
+
+    def finish(self, obs):
+        self.request_stamp, self.waiting_since = None, None
+        self.pub_result.publish(String(data=json.dumps(obs.result())))
 
 
 def main(args=None):

@@ -33,6 +33,7 @@ from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float32MultiArray, String
 from visualization_msgs.msg import MarkerArray
 
+from active_recognition.nodes import guarded
 from active_recognition.validation import InputError
 from msg_adapters.definitions import message_definition
 
@@ -108,7 +109,7 @@ class Recorder:
                 topic=full, message_encoding="cdr", schema_id=schemas[name],
                 metadata={"offered_qos_profiles": qos_metadata(qos)})
             self.subscriptions.append(node.create_subscription(
-                kind, topic, partial(self.on_message, full, channel), qos, raw=True,
+                kind, topic, guarded(node, partial(self.on_message, full, channel)), qos, raw=True,
                 callback_group=group))
 
     def ready(self):

@@ -15,7 +15,9 @@
 """simulated_camera: renders the depth image a camera would see at every requested pose.
 
 Publishes, with one stamp, the image, its CameraInfo and the pose the camera really reached
-(`pose_error_deg`). The sensor parameters default to the model's own virtual camera;
+(`pose_error_deg`); for a pose the arm cannot reach (below the `floor`, or one of the
+`unanswered` share) it publishes nothing, as a robot whose motion planner fails. The sensor
+parameters default to the model's own virtual camera;
 `demo --camera realsense` sets them to simulated_camera.PRESETS["realsense"].
 """
 import sys
@@ -24,13 +26,14 @@ from dataclasses import fields
 from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import ParameterType, SetParametersResult
 from rclpy.node import Node
-from rclpy.qos import qos_profile_sensor_data
+from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
 from active_recognition.datasets import NAMES
 from active_recognition.datasets.base import SPLITS
-from active_recognition.nodes import check_parameter, declare_parameters, run_node
+from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
+    run_node
 from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
 from active_recognition.validation import Check, InputError, SEED_MAX, checks
 
@@ -48,8 +51,9 @@ SENSOR_TEXT = {
                     "from face-on; 0 = off",
     "min_range": "metres; no return nearer", "max_range": "metres; no return farther; 0 = none",
     "encoding": "32FC1 (metres) or 16UC1 (millimetres)",
-    "floor": "a plane under the object (seen from above)",
+    "floor": "an opaque plane under the object; a pose below it gets no image",
     "pose_error_deg": "the arm misses each pose by this orbit; camera/pose says where it went",
+    "unanswered": "share of requests the arm never reaches: nothing is published for them",
     "object_size": "metres: the mesh's longest bounding-box edge",
 }
 PARAMS = {  # name: (default, type, description)
@@ -59,14 +63,17 @@ PARAMS = {  # name: (default, type, description)
     "split": ("test", STR, "train or test"),
     "index": (0, INT, "which object of the dataset split"),
     "frame_id": ("camera_depth_optical_frame", STR, "frame_id of the images"),
-    "seed": (0, INT, "seed of the noise and the pose error"),
+    "seed": (0, INT, "seed of the noise, the pose error and the unanswered requests"),
+    "image_qos": ("sensor_data", STR, "reliability of depth/image, depth/camera_info and "
+                                      "camera/pose: sensor_data (best effort) or reliable"),
     **{f.name: (f.default, TYPES[type(f.default)], SENSOR_TEXT[f.name])
        for f in fields(SensorConfig)},
 }
 OBJECT = ("mesh", "dataset", "root", "split", "index")  # may change at run time
 CHECKS = {**checks(SensorConfig), "mesh": Check(str), "dataset": Check(str, choices=NAMES),
           "root": Check(str), "split": Check(str, choices=SPLITS), "index": Check(int, lo=0),
-          "frame_id": Check(str, length=(1, None)), "seed": Check(int, lo=0, hi=SEED_MAX)}
+          "frame_id": Check(str, length=(1, None)), "seed": Check(int, lo=0, hi=SEED_MAX),
+          "image_qos": Check(str, choices=("sensor_data", "reliable"))}
 
 
 class SimulatedCameraNode(Node):
@@ -77,11 +84,16 @@ class SimulatedCameraNode(Node):
         self.sim = SimulatedCamera(sensor, p["seed"])
         self.sim.load(**{k: p[k] for k in OBJECT})
         self.frame_id = p["frame_id"]
-        self.add_on_set_parameters_callback(self.on_parameters)
-        self.pub_image = self.create_publisher(Image, "depth/image", qos_profile_sensor_data)
-        self.pub_info = self.create_publisher(CameraInfo, "depth/camera_info", qos_profile_sensor_data)
-        self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos_profile_sensor_data)
-        self.create_subscription(PoseStamped, "next_view", self.on_pose, 10)
+        self.add_on_set_parameters_callback(guarded(
+            self, self.on_parameters,
+            lambda params: SetParametersResult(successful=False, reason="internal error")))
+        qos = qos_profile_sensor_data if p["image_qos"] == "sensor_data" else \
+            QoSProfile(depth=5, reliability=ReliabilityPolicy.RELIABLE)
+        self.pub_image = self.create_publisher(Image, "depth/image", qos)
+        self.pub_info = self.create_publisher(CameraInfo, "depth/camera_info", qos)
+        self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos)
+        self.create_subscription(PoseStamped, "next_view", guarded(self, self.on_pose), 10)
+        self.warn, self.unanswered = Throttled(self.get_logger()), 0
         self.get_logger().info(f"simulated camera ({sensor.width}x{sensor.height}) showing "
                                f"{self.sim.description}")
 
@@ -103,9 +115,14 @@ class SimulatedCameraNode(Node):
         try:
             position, rotation = ma.pose_to_camera(msg)
         except ma.AdapterError as e:
-            self.get_logger().warn(f"pose rejected: {e}", throttle_duration_sec=2.0)
-            return
-        depth, position, rotation = self.sim.capture(position, rotation)
+            return self.warn("next_view", f"pose rejected: {e}")
+        shot = self.sim.capture(position, rotation)
+        if shot is None:
+            self.unanswered += 1
+            where = "below the floor" if not self.sim.reachable(position) else "unanswered share"
+            return self.warn("unreachable", f"pose ({', '.join(f'{v:.2f}' for v in position)}) "
+                                            f"not reached ({where}): no image")
+        depth, position, rotation = shot
         stamp = msg.header.stamp
         self.pub_info.publish(ma.camera_info(self.sim.k, stamp, self.frame_id))
         self.pub_pose.publish(ma.position_to_pose(position, rotation, msg.header.frame_id, stamp))

@@ -1,0 +1,72 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Sensor subscriptions that match their publishers' reliability (`image_qos: auto`).
+
+Keep-last 1 (a slow step works on the newest message, not a backlog). A reliable subscription
+cannot hear a best-effort publisher, and a best-effort one loses large frames that cross
+processes in UDP fragments (FastDDS: any frame above its 512 kB shared-memory segment), so
+`auto` does what rosbag2's recorder does: reliable when every publisher of the topic offers
+reliable, best effort otherwise (or while there is none), and it subscribes again when the
+publishers change (`follow`, called now and then).
+"""
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+QOS_MODES = ("auto", "reliable", "sensor_data")
+
+
+def sensor_qos(reliable):
+    return QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
+                      reliability=ReliabilityPolicy.RELIABLE if reliable
+                      else ReliabilityPolicy.BEST_EFFORT)
+
+
+def offered_reliable(node, topic):
+    """True when every publisher of `topic` offers reliable, False when one does not, None when
+    there is none."""
+    infos = node.get_publishers_info_by_topic(topic)
+    if not infos:
+        return None
+    return all(i.qos_profile.reliability == ReliabilityPolicy.RELIABLE for i in infos)
+
+
+class SensorSubscription:
+    """A keep-last-1 subscription with the reliability of `mode` (one of QOS_MODES)."""
+
+    def __init__(self, node, msg_type, topic, callback, mode="auto"):
+        self.node, self.msg_type, self.callback, self.mode = node, msg_type, callback, mode
+        self.reliable = mode == "reliable"
+        self.sub = node.create_subscription(msg_type, topic, callback, sensor_qos(self.reliable))
+        self.topic = self.sub.topic_name  # resolved: namespace and remapping applied
+        self.follow()
+
+    def follow(self):
+        """In `auto` mode, subscribe again if the publishers now offer another reliability;
+        True when it did."""
+        if self.mode != "auto":
+            return False
+        offered = offered_reliable(self.node, self.topic)
+        if offered is None or offered == self.reliable:
+            return False
+        self.node.destroy_subscription(self.sub)
+        self.reliable = offered
+        self.sub = self.node.create_subscription(self.msg_type, self.topic, self.callback,
+                                                 sensor_qos(offered))
+        self.node.get_logger().info(f"{self.topic}: its publishers offer "
+                                    f"{'reliable' if offered else 'best effort'}; subscribed so")
+        return True
+
+    @property
+    def reliability(self):
+        return "reliable" if self.reliable else "best_effort"
