@@ -176,6 +176,11 @@ def add_train(sub):
     p.add_argument("--dropout", type=own("dropout"),
                    help="augment: up to this fraction of each image's pixels, and as many of its "
                         "depth-edge pixels, missing (0)")
+    p.add_argument("--min-elevation", dest="min_elevation", type=own("min_elevation"),
+                   help="degrees: no training view from lower (-90: the whole sphere; 0: nothing "
+                        "from below an object on a floor)")
+    p.add_argument("--max-elevation", dest="max_elevation", type=own("max_elevation"),
+                   help="degrees: no training view from higher (90)")
     p.add_argument("--seed", type=SEED, help="seed of every random choice")
     p.add_argument("--device", type=own("device"), help="cpu, cuda or cuda:N")
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
@@ -241,7 +246,8 @@ def cmd_evaluate(args):
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, steps=args.steps,
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
-                     shared=not args.no_shared)
+                     shared=not args.no_shared, min_elevation=args.min_elevation,
+                     max_elevation=args.max_elevation)
     s = evaluate_with_training_time(cfg, runs)
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
@@ -278,6 +284,11 @@ def add_evaluate(sub):
     p.add_argument("--seed", type=SEED, default=0, help="objects, initial views, random planner")
     p.add_argument("--out", default="runs/eval", help="report folder")
     p.add_argument("--no-shared", action="store_true", help="skip the shared multi-view classifier")
+    p.add_argument("--min-elevation", type=own("min_elevation"), default=-90.0,
+                   help="degrees: views from no lower; the initial views are the paper's 50 above it "
+                        "(-90: the whole sphere, the paper's)")
+    p.add_argument("--max-elevation", type=own("max_elevation"), default=90.0,
+                   help="degrees: views from no higher")
     p.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
     p.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
     p.set_defaults(func=cmd_evaluate)

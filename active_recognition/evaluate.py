@@ -27,12 +27,13 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from . import checkpoint, geometry
+from . import checkpoint
 from .datasets import NAMES, SPLITS, default_cache_dir, open_dataset
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
+from .reach import ViewLimits, reach_of
 from .report import write_json, write_report
 from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
                          validate)
@@ -59,12 +60,20 @@ class EvalConfig:
     shared: bool = option(True)             # also score every planner with the shared classifier
     oracle_candidates: int = option(50, lo=1, hi=10_000)
     trajectory_figures: int = option(3, lo=0, hi=100)
+    # the views a robot can take (reach.ViewLimits, degrees of elevation): the initial views are
+    # the paper's 50 that lie in the band, and every planner keeps to it; default the whole sphere
+    min_elevation: float = option(-90.0, lo=-90, hi=90)
+    max_elevation: float = option(90.0, lo=-90, hi=90)
 
     def __post_init__(self):
         validate(self)
+        self.limits()  # min above max is refused now
         twice = sorted({p for p in self.planners if self.planners.count(p) > 1})
         if twice:
             raise InputError(f"planners: {', '.join(twice)} named more than once")
+
+    def limits(self) -> ViewLimits:
+        return ViewLimits(self.min_elevation, self.max_elevation)
 
 
 @dataclass
@@ -95,23 +104,25 @@ class Rollout:
         return float((final.argmax(-1) == self.labels).mean()), float(self.stopped_at.mean())
 
 
-def sample_episodes(n_objects, total, starts, seed):
-    """(object indices, initial-view indices) of the evaluation, the same for every planner."""
+def sample_episodes(n_objects, total, starts, seed, initial=50):
+    """(object indices, initial-view indices among `initial`) of the evaluation, the same for
+    every planner."""
     rng = np.random.default_rng(seed)
     objects = np.arange(total) if not n_objects else np.sort(rng.permutation(total)[:n_objects])
     objects = np.repeat(objects, starts)
-    return objects, rng.integers(0, 50, len(objects))
+    return objects, rng.integers(0, initial, len(objects))
 
 
 def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fixed_path=None):
-    initial = geometry.fibonacci_views(50)
+    initial = cfg.limits().initial_views(50)
     parts = []
     for b in range(0, len(objects), chunk):
         idx = objects[b:b + chunk]
         cams = shapes.cameras(idx)
         planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates, model, fixed_path,
                                shapes.labels[idx])
-        ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner)
+        ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
+                     reach=reach_of(cfg.limits()))
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
         parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),
@@ -169,7 +180,8 @@ def evaluate(cfg: EvalConfig, progress=True):
     if cfg.objects > len(test.ds.require_objects()):
         raise InputError(f"objects = {cfg.objects}, but the {cfg.dataset} {cfg.split} split holds "
                          f"{len(test)} (0 = all of them)")
-    objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed)
+    objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed,
+                                      len(cfg.limits().initial_views(50)))
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
         make_planner("imitation", model=models.get("imitation") or model)
@@ -184,7 +196,7 @@ def evaluate(cfg: EvalConfig, progress=True):
             from .view_sets import fixed_path
             val = Shapes(open_dataset(cfg.dataset, cfg.root, "val", cache_dir=default_cache_dir()),
                          test.camera)
-            fixed, val_acc = fixed_path(net, val, seed=cfg.seed)
+            fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits())
             if progress:
                 print(f"fixed path {np.round(fixed, 3).tolist()} (shared-classifier accuracy "
                       f"{val_acc:.3f} on the validation split)", flush=True)

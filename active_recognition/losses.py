@@ -27,6 +27,7 @@ from torch import nn
 from . import geometry
 from .episode import Episode, EpisodeConfig, run
 from .policies import teacher_choice, visited_mask
+from .reach import reach_of
 
 
 def step_weights(steps, weighting="uniform"):
@@ -57,15 +58,16 @@ class JointLoss(nn.Module):
     """A whole batch of episodes, rendered through the differentiable depth layer."""
 
     def __init__(self, model, steps, rule, reduction, weighting="uniform", revisit=0.0,
-                 corrupt=None, random_views=0.0):
+                 corrupt=None, random_views=0.0, limits=None):
         super().__init__()
         self.model, self.steps, self.rule, self.reduction = model, steps, rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
         self.revisit, self.corrupt, self.random_views = revisit, corrupt, random_views
+        self.limits = limits
 
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     random_views=self.random_views)
+                     random_views=self.random_views, reach=reach_of(self.limits))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         loss = steps_loss(out, labels, self.weights)
         if self.revisit:
@@ -93,9 +95,10 @@ class ReinforceLoss(nn.Module):
     """
 
     def __init__(self, model, steps, weighting="uniform", std=0.3, entropy_weight=0.5, momentum=0.9,
-                 rule=None, reduction="mean", corrupt=None):
+                 rule=None, reduction="mean", corrupt=None, limits=None):
         super().__init__()
         self.model, self.steps, self.std, self.corrupt = model, steps, std, corrupt
+        self.limits = limits
         self.rule, self.reduction = rule, reduction
         self.weights = step_weights(steps, weighting).tolist()
         self.entropy_weight, self.momentum = entropy_weight, momentum
@@ -103,7 +106,8 @@ class ReinforceLoss(nn.Module):
 
     def forward(self, cameras, views, labels):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     exploration_std=self.std, explore_through=self.rule is not None)
+                     exploration_std=self.std, explore_through=self.rule is not None,
+                     reach=reach_of(self.limits))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         ce = steps_loss(out, labels, self.weights)
         correct = (out[-1].logits.argmax(1) == labels).float()
@@ -126,11 +130,15 @@ class ImitationLoss(nn.Module):
     states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
     """
 
-    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None):
+    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None, limits=None):
         super().__init__()
         self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
+        self.limits = limits
+        # candidates the robot cannot take are never a target (nor FC_view's choice)
+        self.out = np.zeros(len(self.candidates), bool) if limits is None else \
+            ~limits.allows(self.candidates)
 
     def oracle_targets(self, cand_features, hidden, labels, visited):
         """(B,) index of the best unvisited candidate for each object (the oracle's choice)."""
@@ -144,14 +152,14 @@ class ImitationLoss(nn.Module):
             feats = model.features(depth.flatten(0, 1).to(labels.device))
         self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     planner=self)
+                     planner=self, reach=reach_of(self.limits))
         out = run(ep, cameras, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
     def next_view(self, episode, step):
         """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
-        visited = visited_mask(episode, self.candidates)
+        visited = visited_mask(episode, self.candidates) | self.out[None]
         target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
         scores = self.model.score_views(episode.hidden)
         masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))

@@ -151,3 +151,9 @@ class Reach:
         out = rows.copy()
         out[bad] = nearest
         return out
+
+
+def reach_of(limits: ViewLimits | None):
+    """A fresh Reach for an episode (or a batch of them) within `limits`; None for the whole
+    sphere (None too), where there is nothing to keep to."""
+    return None if limits is None or limits.whole_sphere else Reach(limits)

@@ -33,7 +33,7 @@ import torch
 from torch import nn
 from tqdm import tqdm
 
-from . import checkpoint, geometry
+from . import checkpoint
 from .augment import Augment
 from .datasets import NAMES, default_cache_dir, open_dataset
 from .datasets.shapes import Shapes
@@ -42,6 +42,7 @@ from .devices import distributed, resolve_device
 from .episode import Episode, EpisodeConfig, run
 from .losses import ImitationLoss, JointLoss, PretrainLoss, ReinforceLoss
 from .model import ModelConfig, RecurrentAttention
+from .reach import ViewLimits, reach_of
 from .run_metrics import read_metrics, write_metrics
 from .validation import (Check, InputError, SEED_MAX, check_mapping, load_yaml, option, output_dir,
                          validate)
@@ -63,6 +64,10 @@ class TrainConfig:
     imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
     random_views: float = option(0.0, lo=0, hi=1)   # learned: chance a training step looks anywhere
+    # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame):
+    # every training view, first and later, keeps inside; the default is the whole sphere
+    min_elevation: float = option(-90.0, lo=-90, hi=90)
+    max_elevation: float = option(90.0, lo=-90, hi=90)
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
     joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
     batch_size: int = option(32, lo=1, hi=100_000)
@@ -96,12 +101,17 @@ class TrainConfig:
         if self.policy == "imitation" and not self.model.get("candidates"):
             raise InputError("policy imitation needs a view-scoring head: set model.candidates "
                              "(--candidates 50)")
+        self.limits()  # min above max is refused now
         if self.initial_step is not None:  # refuse it now, not after pre-training
             initial_step_bias(self.initial_step, self.model.get("max_step", ModelConfig.max_step))
         epochs = {"pretrain": self.pretrain_epochs, "joint": self.joint_epochs}
         if not any(epochs[s] for s in (STAGES if self.stage == "all" else (self.stage,))):
             raise InputError(f"nothing to train: stage {self.stage} with pretrain_epochs "
                              f"{self.pretrain_epochs} and joint_epochs {self.joint_epochs}")
+
+    def limits(self) -> ViewLimits:
+        """The elevation band the training views keep to."""
+        return ViewLimits(self.min_elevation, self.max_elevation)
 
     def augment(self) -> Augment:
         """The augmentation these options ask for."""
@@ -147,19 +157,20 @@ def batches(n, batch, seed, stage, epoch, rank, world):
     return [mine[b:b + batch] for b in range(0, len(mine) - batch + 1, batch)] or [mine]
 
 
-def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None):
+def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None, limits=None):
     """Accuracy after 1, 3, 10 views from fixed initial views on a seeded sample of n shapes,
-    with the model's own view head (or `planner`)."""
+    with the model's own view head (or `planner`), within `limits` (None: the whole sphere)."""
     if n <= 0 or not len(shapes):
         return {}
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(shapes))[:n])  # a fixed, seeded subset of every class
-    views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
+    starts = (limits or ViewLimits()).initial_views(50)
+    views = starts[rng.integers(0, len(starts), len(idx))]
     was = model.training
     model.eval()
     with torch.no_grad():
-        out = run(Episode(model, EpisodeConfig(max_views=max(steps)), planner), shapes.cameras(idx),
-                  views)
+        out = run(Episode(model, EpisodeConfig(max_views=max(steps)), planner, reach=reach_of(limits)),
+                  shapes.cameras(idx), views)
     model.train(was)
     y = torch.as_tensor(shapes.labels[idx], device=out[0].probs.device)
     return {f"acc_{k}": round((out[k - 1].probs.argmax(1) == y).float().mean().item(), 4) for k in steps}
@@ -189,14 +200,15 @@ def train(cfg: TrainConfig, progress=True):
 
 def joint_loss(cfg: TrainConfig, model, corrupt):
     """The episode loss of the joint stage for cfg.policy."""
+    limits = cfg.limits()
     if cfg.policy in ("reinforce", "hybrid"):
         rule = cfg.view_gradient if cfg.policy == "hybrid" else None
         return ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
-                             reduction=cfg.gradient_reduction, corrupt=corrupt)
+                             reduction=cfg.gradient_reduction, corrupt=corrupt, limits=limits)
     if cfg.policy == "imitation":
-        return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt)
+        return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt, limits)
     return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
-                     cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views)
+                     cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views, limits)
 
 
 class Trainer:
@@ -218,6 +230,8 @@ class Trainer:
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
         self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
         self.augment = cfg.augment()
+        self.limits = cfg.limits()
+        self.starts = self.limits.initial_views(50)  # the paper's 50 initial views, in the band
         self.corrupt = self.augment.images if self.augment.dropout > 0 else None
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
         self.rows, elapsed, self.opt_state, self.saved = [], 0.0, None, None
@@ -334,9 +348,9 @@ class Trainer:
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
         cams = self.shapes.cameras(idx, self.augment, rng)
         if stage == "joint":
-            return net(cams, geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))], y)
+            return net(cams, self.starts[rng.integers(0, len(self.starts), len(idx))], y)
         k = self.cfg.views_per_shape
-        views = [geometry.random_views(rng, k) for _ in cams]
+        views = [self.limits.random_views(rng, k) for _ in cams]
         depth = self.augment.images(torch.from_numpy(np.concatenate(
             [c.render(v) for c, v in zip(cams, views)])))
         views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=self.device)
@@ -350,7 +364,8 @@ class Trainer:
                "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
                "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
                **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes, seed=self.cfg.seed,
-                                   planner=own_planner(self.model, self.cfg.policy))}
+                                   planner=own_planner(self.model, self.cfg.policy),
+                                   limits=self.limits)}
         self.rows.append(row)
         write_metrics(self.metrics_path, self.rows)
         print(" ".join(f"{k}={v}" for k, v in row.items()), file=sys.stderr)

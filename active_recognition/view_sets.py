@@ -77,11 +77,14 @@ def best_subset_accuracy(net, features, labels, size=3):
     return float(np.mean(hits))
 
 
-def fixed_path(net, shapes, candidates=50, objects=400, seed=0):
+def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None):
     """The best fixed path on (a seeded sample of) `shapes`, the validation split: the two
     candidate views (theta, phi), (2, 2), that the shared classifier scores best after a random
-    first view. -> (path, its accuracy there)."""
+    first view, among the candidates within `limits` (reach.ViewLimits; None: all).
+    -> (path, its accuracy there)."""
     views = geometry.fibonacci_views(candidates)
+    if limits is not None:
+        views = limits.initial_views(candidates)
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(shapes))[:objects])
     feats = candidate_features(net, shapes, idx, views)

@@ -15,7 +15,9 @@
 """The shipped model through a real-looking camera: one row per way a camera differs from the
 model's own, each through the ROS-free path the recognizer node uses (SimulatedCamera ->
 ActiveRecognizer.observe, which reprojects into the model's camera), with the same test objects,
-starts and random draws in every row.
+starts and random draws in every row. Views keep to the recognizer's default limits (nothing
+from below the object's support: elevation 0..90 degrees), and the `floor` rows' floor is opaque
+from both sides; a request the simulated arm cannot reach is given up (view_unreachable).
 
 Columns: accuracy after 3 views (the answer after the 3rd view, or at the stop if the episode
 stopped sooner: what a robot allowed 3 views would say), accuracy at the stop, mean views.
@@ -30,14 +32,16 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from active_recognition import geometry
 from active_recognition.checkpoint import SHIPPED
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
+from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.simulated_camera import SimulatedCamera, sensor_config
 
 ROOT = Path(__file__).resolve().parents[1]
+# the recognizer node's default: nothing from below the object's support (an opaque floor)
+LIMITS = ViewLimits(0.0, 90.0)
 SHIPPED_MODEL = {"procedural": SHIPPED, "modelnet": SHIPPED.with_name("modelnet10.pt")}
 # name: (camera preset and changes, the recognizer's object_size belief, centre offset x size)
 ROWS = {
@@ -76,12 +80,12 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
     k = sensor.intrinsics()
     test = open_dataset(dataset, root, split, cache_dir=default_cache_dir())
     rng = np.random.default_rng(seed)
-    starts = geometry.fibonacci_views(50)[rng.integers(50, size=len(test))]
+    starts = LIMITS.initial_views(50)[rng.integers(len(LIMITS.initial_views(50)), size=len(test))]
     directions = rng.standard_normal((len(test), 3))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
     yaws = rng.uniform(0, 2 * np.pi, len(test)) if yaw else np.zeros(len(test))
     core = ActiveRecognizer(checkpoint, EpisodeConfig(10, 0.1), seed=seed,
-                            sensing=SensingConfig(object_size=believed_size))
+                            sensing=SensingConfig(object_size=believed_size), limits=LIMITS)
     hits3, hits_stop, views = [], [], []
     for i in objects:
         sim = SimulatedCamera(sensor, seed=seed * 100003 + int(i), offset=off * directions[i],
@@ -92,7 +96,11 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
         labels = []
         while not core.done:
             pos, rot = core.requested_pose(k)
-            metres, apos, arot = sim.capture(pos, rot)
+            shot = sim.capture(pos, rot)
+            if shot is None:  # below the floor: no image, as when an arm cannot get there
+                core.view_unreachable()
+                continue
+            metres, apos, arot = shot
             obs = core.observe(metres, k, apos, arot)
             if obs.status in ("classified", "recognized"):
                 labels.append(obs.label)

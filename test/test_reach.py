@@ -210,3 +210,43 @@ def test_object_size_and_standoff_have_physical_bounds():
         SensingConfig(object_size=1e300)
     with pytest.raises(InputError, match="standoff must be"):
         SensingConfig(standoff=1e6)
+
+
+def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monkeypatch):
+    from active_recognition.evaluate import EvalConfig, evaluate
+
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "cache"))
+    cfg = EvalConfig(planners=("learned", "random", "straight", "oracle"), objects=6, steps=4,
+                     shared=False, min_elevation=0.0, out=str(tmp_path / "out"), oracle_candidates=20,
+                     trajectory_figures=0, starts=2)
+    results = evaluate(cfg, progress=False)
+    top = ViewLimits(0.0, 90.0)
+    for name, ro in results.items():
+        assert top.allows(ro.views.reshape(-1, 2)).all(), name
+        assert set(ro.starts) <= set(range(len(top.initial_views(50))))
+        np.testing.assert_allclose(ro.views[:, 0], top.initial_views(50)[ro.starts])
+    with pytest.raises(InputError, match=r"min_elevation \(10\) must not exceed max_elevation \(5\)"):
+        EvalConfig(min_elevation=10, max_elevation=5)
+
+
+def test_training_keeps_to_the_limits_and_imitation_never_targets_a_view_outside():
+    from active_recognition.losses import ImitationLoss, JointLoss
+    from active_recognition.train import TrainConfig
+
+    with pytest.raises(InputError, match="must not exceed"):
+        TrainConfig(min_elevation=30, max_elevation=0)
+    top = ViewLimits(0.0, 90.0)
+    torch.manual_seed(0)
+    model = small_model(candidates=20)
+    cams = [DepthCamera(*make_shape(k, 3, False)) for k in range(2)]
+    starts = top.initial_views(50)[:2]
+    seen = []
+    loss = ImitationLoss(model, steps=4, mix=1.0, limits=top)  # always the teacher's target
+    original = loss.next_view
+    loss.next_view = lambda ep, step: seen.append(original(ep, step)) or seen[-1]
+    loss(cams, starts, torch.tensor([0, 1]))
+    assert len(seen) == 4 and all(top.allows(v).all() for v in seen)
+    joint = JointLoss(model, 4, "surface", "mean", random_views=0.5, limits=top)
+    value, _ = joint(cams, starts, torch.tensor([0, 1]))
+    value.backward()  # differentiable through the clamped views
+    assert model.locate.weight.grad is not None
