@@ -76,6 +76,7 @@ class Episode:
             self.view = self.reach.limits.clamp(self.view)
         self.hidden = self.model.init_hidden(len(self.view), device)
         self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
+        self.requested = []  # views asked for but taken elsewhere (a robot's arm): (B, 2) each
         self.log_probs = []  # log N(increment; FC_loc, std^2) per step, when exploring
         self.done = torch.zeros(len(self.view), dtype=torch.bool, device=device)
         self.stopped_at = torch.full((len(self.view),), -1, dtype=torch.long, device=device)
@@ -94,6 +95,7 @@ class Episode:
         asked to look (a robot's arm); the episode goes on from there.
         """
         if view is not None:
+            self.requested.append(self.views[-1].detach())  # marked as visited too
             self.view = torch.as_tensor(view, dtype=torch.float32,
                                         device=self.view.device).reshape(self.view.shape)
             self.views[-1] = self.view

@@ -97,12 +97,22 @@ def nearest_candidates(views, candidates):
     return np.argmax(pos @ cand.T, axis=1)
 
 
-def visited_mask(episode, candidates):
-    """(B, K) bool: the candidates nearest to the views the episode has taken."""
+def visited_mask(episode, candidates, pending=True):
+    """(B, K) bool: the candidates nearest to the views the episode has taken, and to the views
+    it asked for where the robot took another (so a request is not made again); with
+    `pending`, the view asked for next too."""
+    views = list(episode.views if pending else episode.views[:episode.steps])
     mask = np.zeros((len(episode.view), len(candidates)), dtype=bool)
-    for view in episode.views:
+    for view in views + list(getattr(episode, "requested", [])):
         mask[np.arange(len(mask)), nearest_candidates(view.detach().cpu().numpy(), candidates)] = True
     return mask
+
+
+def exhausted(episode, candidates):
+    """(B,) bool: every candidate the episode's robot can reach has been seen (or asked for and
+    missed), so a candidate planner has nothing new to look at."""
+    seen = visited_mask(episode, candidates, pending=False)
+    return (seen | ~reachable(episode, candidates)[None]).all(1)
 
 
 class ImitationPlanner:

@@ -34,7 +34,7 @@ import torch
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
-from .policies import PLANNERS, PRIVILEGED, make_planner
+from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import auto_standoff, reproject, seen_centre
 from .validation import InputError, option, validate
@@ -110,6 +110,11 @@ class ActiveRecognizer:
             reach=self.reach)
         self.rng = np.random.default_rng(seed)
         self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
+        # the views a planner chooses among (FC_view's, else the paper's 50): once every one it
+        # can reach has been used, the episode ends
+        self.planner_candidates = getattr(self.episode.planner, "candidates", None)
+        if self.planner_candidates is None:
+            self.planner_candidates = geometry.fibonacci_views(50)
         self.reset()
 
     @property
@@ -213,7 +218,10 @@ class ActiveRecognizer:
             view = torch.tensor([seen.view], dtype=torch.float32)
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
-        done = bool(step.done[0])
+        if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
+            self.episode.done[0] = True  # every reachable candidate used: nothing new to see
+            self.episode.stopped_at[0] = self.episode.steps
+        done = bool(self.episode.done[0])
         return Observation("recognized" if done else "classified", probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
                            done, self.episode.steps, seen.view, seen.object_fraction)

@@ -289,3 +289,35 @@ def test_evaluation_defaults_to_the_embedded_datasets_own_shipped_model():
         model, classes, shapes, _ = checkpoint_split(None, EvalConfig(dataset=name))
         assert classes == list(shapes.ds.classes) and shapes.ds.name == name
     assert model.config.candidates == 50 and model.config.view_input  # twins.pt
+
+
+def test_a_view_taken_far_from_its_request_marks_both_and_a_spent_sphere_ends_the_episode(tmp_path):
+    from active_recognition import checkpoint
+    from active_recognition.policies import exhausted, nearest_candidates, visited_mask
+    from active_recognition.recognizer import ActiveRecognizer
+
+    model = small_model(candidates=8)
+    checkpoint.save(tmp_path / "m.pt", {"model": model.state_dict(),
+                                        "model_args": model.config.to_dict(), "classes": ["a", "b", "c"]})
+    core = ActiveRecognizer(tmp_path / "m.pt", EpisodeConfig(max_views=20, entropy_threshold=0.0),
+                            planner="imitation")
+    cands = core.planner_candidates
+    assert len(cands) == 8
+    core.reset(view=tuple(cands[0]))
+    asked = np.array(core.view)
+    far = cands[3] + np.array([0.05, 0.0])  # the arm went elsewhere: nearer another candidate
+    depth = np.full((64, 64), 1.5, np.float32)
+    seen = core.episode
+    with torch.no_grad():
+        seen.step(torch.rand(1, 64, 64) * 255, view=torch.tensor(far[None], dtype=torch.float32))
+    marked = visited_mask(seen, cands)[0]
+    both = {int(nearest_candidates(asked[None], cands)[0]), int(nearest_candidates(far[None], cands)[0])}
+    assert len(both) == 2 and all(marked[i] for i in both)
+    assert int(nearest_candidates(seen.view.numpy(), cands)[0]) not in both  # not asked again
+    core.reset(view=tuple(cands[0]))
+    steps = 0
+    while not core.done:  # each step a new candidate; after the 8th, nothing is left
+        obs = core.observe(depth)
+        steps += 1
+        assert steps <= 8
+    assert steps == 8 and obs.status == "recognized" and exhausted(core.episode, cands)[0]
