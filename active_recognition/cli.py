@@ -133,6 +133,9 @@ def add_train(sub):
     p.add_argument("--random-views", dest="random_views", type=own("random_views"),
                    help="learned: chance that a training step's next view is a random one, so the "
                         "classifier learns from any sequence of views (0)")
+    p.add_argument("--distill-loc", dest="distill_loc", type=own("distill_loc"),
+                   help="imitation: weight of FC_loc's loss toward the oracle's view, so the "
+                        "paper's continuous head learns where the teacher looks (0)")
     p.add_argument("--imitation-mix", dest="imitation_mix", type=own("imitation_mix"),
                    help="imitation: chance that a training step follows the oracle (0.5)")
     p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=own("pretrain_epochs"),

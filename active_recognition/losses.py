@@ -75,6 +75,14 @@ class JointLoss(nn.Module):
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
 
+def increment_toward(view, goal, bound):
+    """The (dtheta, dphi) (B, 2) that moves views (B, 2) toward goals (B, 2) as far as FC_loc's
+    bound allows: the shorter way round in phi, each component clipped to +-bound."""
+    d = goal - view
+    d = torch.stack([d[:, 0], torch.remainder(d[:, 1] + math.pi, 2 * math.pi) - math.pi], -1)
+    return d.clamp(-bound, bound)
+
+
 def revisit_penalty(views, within=math.radians(30)):
     """VERAM's penalty on looking again where one has looked: for every view (B, T, 2) and each
     earlier one, how far the cosine of the angle between them exceeds cos(`within`), averaged.
@@ -130,8 +138,10 @@ class ImitationLoss(nn.Module):
     states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
     """
 
-    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None, limits=None):
+    def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None, limits=None,
+                 distill=0.0):
         super().__init__()
+        self.distill = distill  # weight of FC_loc's loss toward the teacher's view
         self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
@@ -164,6 +174,11 @@ class ImitationLoss(nn.Module):
         scores = self.model.score_views(episode.hidden)
         masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
         self.head_losses.append(nn.functional.cross_entropy(masked, target))
+        if self.distill:  # the paper's head learns the teacher's move as a continuous increment
+            goal = torch.as_tensor(self.candidates, dtype=torch.float32, device=target.device)[target]
+            delta = self.model.config.max_step * torch.tanh(self.model.locate(episode.hidden))
+            self.head_losses.append(self.distill * nn.functional.mse_loss(
+                delta, increment_toward(episode.view.detach(), goal, self.model.config.max_step)))
         follow = torch.rand(len(target), device=target.device) < self.mix
         choice = torch.where(follow, target, masked.detach().argmax(1))
         return self.candidates[choice.cpu().numpy()]

@@ -62,6 +62,8 @@ class TrainConfig:
     # learned (end to end) | reinforce | hybrid (both) | imitation
     policy: str = option("learned", choices=POLICIES)
     imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
+    # imitation: weight of FC_loc's loss toward the oracle's view (the paper's head distilled)
+    distill_loc: float = option(0.0, lo=0)
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
     random_views: float = option(0.0, lo=0, hi=1)   # learned: chance a training step looks anywhere
     # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame):
@@ -206,7 +208,8 @@ def joint_loss(cfg: TrainConfig, model, corrupt):
         return ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
                              reduction=cfg.gradient_reduction, corrupt=corrupt, limits=limits)
     if cfg.policy == "imitation":
-        return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt, limits)
+        return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt, limits,
+                             cfg.distill_loc)
     return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
                      cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views, limits)
 

@@ -321,3 +321,26 @@ def test_a_view_taken_far_from_its_request_marks_both_and_a_spent_sphere_ends_th
         steps += 1
         assert steps <= 8
     assert steps == 8 and obs.status == "recognized" and exhausted(core.episode, cands)[0]
+
+
+def test_distillation_teaches_fc_loc_the_increment_toward_the_oracles_view():
+    from active_recognition.losses import increment_toward
+
+    view = torch.tensor([[1.0, 3.0], [1.0, 0.2], [0.5, -0.1]])
+    goal = torch.tensor([[1.3, -3.0], [2.5, 0.4], [0.4, 0.1]])
+    # the short way round in phi (3.0 -> -3.0 is +0.28, not -6.0), each part clipped to 0.8
+    np.testing.assert_allclose(increment_toward(view, goal, 0.8).numpy(),
+                               [[0.3, 2 * math.pi - 6.0], [0.8, 0.2], [-0.1, 0.2]], atol=1e-6)
+    torch.manual_seed(0)
+    model = small_model(candidates=6)
+    loss = ImitationLoss(model, steps=3, mix=1.0, distill=1.0)
+    cams = [DepthCamera(*make_shape(k, 3, False)) for k in range(2)]
+    opt = torch.optim.Adam(model.locate.parameters(), lr=0.05)
+    errors = []
+    for _ in range(30):  # FC_loc alone learns to point where the oracle looks
+        value, _ = loss(cams, geometry.fibonacci_views(50)[:2], torch.tensor([0, 1]))
+        opt.zero_grad()
+        value.backward()
+        opt.step()
+        errors.append(float(loss.head_losses[1].detach()))
+    assert np.mean(errors[-5:]) < 0.5 * np.mean(errors[:5])
