@@ -139,8 +139,9 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
         filled = at[done]
         flat[filled] = np.where(pair, mean, median)[done]
         holes[filled] = False
-        at = np.unique((filled + offsets[:, None]).ravel())
-        at = at[holes[at]]
+        near = np.zeros(flat.size, bool)  # the holes beside them, each once
+        near[(filled + offsets[:, None]).ravel()] = True
+        at = np.flatnonzero(near & holes)
     return np.where((start & ~open_)[1:-1, 1:-1], pad[1:-1, 1:-1], z)
 
 
