@@ -26,6 +26,7 @@ one, else its own FC_loc. The ROS node is a thin shell around this class.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,7 +37,7 @@ from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
-from .reprojection import auto_standoff, reproject, seen_centre
+from .reprojection import Frame, auto_standoff, seen_centre
 from .validation import InputError, option, validate
 
 TRUSTED = 0.05  # an object frame this close to the centre seen (x object_size) is left alone
@@ -175,46 +176,61 @@ class ActiveRecognizer:
         camera, about the object's centre as found so far."""
         return self.reprojected(self.shot(metres, k, position, rotation))
 
-    def reprojected(self, shot):
+    def frame(self, shot, reach=0.0):
+        """The shot back-projected about the object's centre as found so far (a Frame, that may
+        later look up to `reach` x object_size from there)."""
         metres, k, position, rotation = shot
         size = self.sensing.object_size
-        return reproject(metres, k, position - self.centre * size, rotation, self.camera, size,
-                         self.sensing.box_margin)
+        return Frame(metres, k, position - self.centre * size, rotation, self.camera, size,
+                     self.sensing.box_margin, reach=reach)
 
-    def recentred(self, seen, shot):
-        """The first view's Reprojection again, about the centre of the box of what it saw
+    def reprojected(self, shot):
+        frame = self.frame(shot)
+        return frame.render(frame.kept())
+
+    def recentred(self, frame, seen):
+        """The first view's points (Kept) again, about the centre of the box of what it saw
         (seen_centre), as a detector's centre is off: the first TRUSTED of the move ignored (the
         model is trained for small errors, and a view's own estimate errs by about that much),
         the move capped at `recentre`. Twice, as the first box may have cut the object off; not
-        where the image itself cut the object off."""
+        where the image itself cut the object off. The frame's points are reused."""
+        start = self.centre.copy()
         for _ in range(2):
             if len(seen.points) < 8 or seen.cut:
                 break
-            here = shot[2] / self.sensing.object_size - self.centre
+            here = frame.position - (self.centre - start)
             found = self.centre + seen_centre(seen.points, here)
             reach = np.linalg.norm(found)
             move = min(max(reach - TRUSTED, 0.0), self.sensing.recentre)
             self.centre = found * (move / reach if reach > 0 else 0.0)
-            seen = self.reprojected(shot)
+            seen = frame.kept(self.centre - start)
         return seen
 
     def observe(self, metres, k=None, position=None, rotation=None) -> Observation:
-        """One episode step on a metric depth image (see `shot` for the arguments)."""
+        """One episode step on a metric depth image (see `shot` for the arguments); the image is
+        back-projected once, at the first view too."""
         if self.done:
             raise RuntimeError("the episode has ended; reset() for a new object")
-        shot = self.shot(metres, k, position, rotation)
-        seen = self.reprojected(shot)
-        if self.episode.steps == 0 and self.sensing.recentre > 0 and \
-                seen.object_fraction >= self.sensing.min_object_fraction:
-            seen = self.recentred(seen, shot)
-        if seen.object_fraction < self.sensing.min_object_fraction:
+        least = self.sensing.min_object_fraction
+        first = self.episode.steps == 0 and self.sensing.recentre > 0
+        # the centre moves at most `recentre` from 0, so at most this far from where it is
+        reach = self.sensing.recentre + float(np.linalg.norm(self.centre)) if first else 0.0
+        frame = self.frame(self.shot(metres, k, position, rotation), reach)
+        kept = frame.kept()
+        # re-centre when the image shows the object (the bound `most` settles nearly every case;
+        # an image close to empty is rendered to tell)
+        if first and kept.most >= least and \
+                (kept.most >= 2 * least or frame.render(kept).object_fraction >= least):
+            kept = self.recentred(frame, kept)
+        seen = frame.render(kept)
+        if seen.object_fraction < least:
             self.empty_views += 1
             self.no_object = self.empty_views >= self.sensing.max_empty_views
             status = "no_object" if self.no_object else "empty"
             return Observation(status, None, "", None, self.view, self.no_object,
                                self.episode.steps, seen.view, seen.object_fraction)
         self.empty_views = 0
-        with torch.no_grad():
+        with torch.no_grad(), self.threads():
             view = torch.tensor([seen.view], dtype=torch.float32)
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
@@ -225,6 +241,19 @@ class ActiveRecognizer:
         return Observation("recognized" if done else "classified", probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
                            done, self.episode.steps, seen.view, seen.object_fraction)
+
+    @contextmanager
+    def threads(self):
+        """torch on one thread for a step of the compact model: a 64x64 image gains nothing from
+        two, and on a busy 2-core machine its OpenMP workers waited on numpy's and ROS's threads
+        (a 0.4 ms step took 20-100 ms)."""
+        before = torch.get_num_threads()
+        if self.model.config.encoder == "compact":
+            torch.set_num_threads(1)
+        try:
+            yield
+        finally:
+            torch.set_num_threads(before)
 
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])

@@ -13,24 +13,39 @@
 # limitations under the License.
 
 """ROS latency on this machine: the recognizer's step (image received -> next view published),
-a full 10-view closed loop over topics with the simulated camera, and a 30 Hz image stream for
-60 s (does it keep up, drop nothing it could process, keep its memory flat?). Medians and p99;
-last line is JSON."""
+a full 10-view closed loop over topics with the simulated camera, at the model's own 64x64 and
+at a RealSense's 640x480 and 1280x720 (the first view of each object included); a 30 Hz image
+stream for 60 s (does it keep up, drop nothing it could process, keep its memory flat?); and a
+30 Hz 640x480 stream with K and poses from another process, as a real camera's driver sends it.
+Medians and p99; last line is JSON."""
 import argparse
+import json
+import os
 import resource
+import subprocess
+import sys
 import time
+from dataclasses import fields
 
 import numpy as np
 from common import emit
+from geometry_msgs.msg import PoseStamped
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.qos import qos_profile_sensor_data
-from sensor_msgs.msg import Image
+from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
+from active_recognition.reprojection import auto_standoff
+from active_recognition.simulated_camera import sensor_config
+
+# the RealSense preset (noise, holes, floor, 2 degrees of arm error) at two sizes
+VGA = {"width": 640, "height": 480, "fx": 385.0, "fy": 385.0}
+HD = {"width": 1280, "height": 720, "fx": 640.0, "fy": 640.0}
+RELIABLE = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE)
 
 
 def rss_mb():
@@ -38,9 +53,14 @@ def rss_mb():
         return int(f.read().split()[1]) * resource.getpagesize() / 2 ** 20
 
 
-def closed_loop(episodes):
+def closed_loop(episodes, camera=None):
+    """Time `episodes` 10-view episodes (after 2 to warm up) with the simulated camera, the
+    model's own (camera None) or the RealSense preset with `camera`'s size and K."""
     with ros_session() as (ctx, ex):
-        cam = SimulatedCameraNode(context=ctx)
+        sensor = [] if camera is None else [
+            Parameter(f.name, value=getattr(sensor_config("realsense", **camera), f.name))
+            for f in fields(sensor_config())]
+        cam = SimulatedCameraNode(context=ctx, parameter_overrides=sensor)
         rec = Recognizer(context=ctx, parameter_overrides=[Parameter("entropy_threshold", value=0.0)])
         client = DemoClient(context=ctx)
         for n in (cam, rec, client):
@@ -54,6 +74,8 @@ def closed_loop(episodes):
             assert result is not None and result["views"] == 10, result
             if i >= 2:
                 times.append((time.perf_counter() - t) * 1e3)
+            else:
+                rec.step_ms.clear()  # warming up
         return times, np.array(rec.step_ms)
 
 
@@ -97,6 +119,63 @@ def stream(seconds, hz):
                 "rss_growth_mb": rss[-1] - (rss[9] if len(rss) > 9 else rss[0])}
 
 
+def publish_stream(seconds, hz, camera):
+    """The camera's process (run as `--publish`): a RealSense frame, its CameraInfo and its pose
+    at `hz` for `seconds`, reliable, once the recognizer subscribes. Prints what it sent, JSON."""
+    import rclpy
+    from active_recognition.simulated_camera import SimulatedCamera
+    sensor = sensor_config("realsense", **camera)
+    sim = SimulatedCamera(sensor)
+    sim.load(dataset="procedural", split="test", index=3)
+    rclpy.init()
+    node = Node("camera_driver")
+    pubs = [node.create_publisher(t, name, RELIABLE) for t, name in (
+        (CameraInfo, "depth/camera_info"), (PoseStamped, "camera/pose"), (Image, "depth/image"))]
+    deadline = time.monotonic() + 20
+    while pubs[2].get_subscription_count() == 0 and time.monotonic() < deadline:
+        rclpy.spin_once(node, timeout_sec=0.05)
+    standoff = auto_standoff(sensor.intrinsics())
+    pose = ma.pose_to_camera(ma.view_to_pose(1.0, 0.5, standoff))
+    depth, position, rotation = sim.capture(*pose)
+    image = ma.metres_to_image(depth, None, "camera", sensor.encoding)
+    published, start = 0, time.monotonic()
+    while time.monotonic() - start < seconds:
+        stamp = node.get_clock().now().to_msg()
+        image.header.stamp = stamp
+        pubs[0].publish(ma.camera_info(sim.k, stamp, "camera"))
+        pubs[1].publish(ma.position_to_pose(position, rotation, "object", stamp))
+        pubs[2].publish(image)
+        published += 1
+        rclpy.spin_once(node, timeout_sec=max(0.0, start + published / hz - time.monotonic()))
+    print(json.dumps({"published": published}), flush=True)
+    node.destroy_node()
+    rclpy.try_shutdown()
+
+
+def vga_stream(seconds, hz):
+    """The recognizer here, subscribing as it does; a 640x480 camera in another process."""
+    driver = subprocess.Popen(
+        [sys.executable, __file__, "--publish", str(seconds), "--hz", str(hz)],
+        stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    with ros_session() as (ctx, ex):
+        rec = Recognizer(context=ctx)
+        client = DemoClient(context=ctx)
+        for n in (rec, client):
+            ex.add_node(n)
+        client.reset_pending = False
+        while driver.poll() is None:
+            ex.spin_once(timeout_sec=0.01)
+            if rec.core.done and not client.reset_pending:
+                client.reset_pending = True
+                client.reset.call_async(rec_reset_request()).add_done_callback(
+                    lambda f: setattr(client, "reset_pending", False))
+        spin_until(ex, lambda: False, 0.5)  # let the last images arrive
+        sent = json.loads(driver.stdout.read().strip().splitlines()[-1])["published"]
+        return {"vga_stream_published": sent, "vga_stream_received": rec.received,
+                "vga_stream_processed": rec.processed,
+                "vga_stream_step_ms_p50": float(np.median(rec.step_ms)) if rec.step_ms else None}
+
+
 def rec_reset_request():
     from std_srvs.srv import Trigger
     return Trigger.Request()
@@ -107,17 +186,33 @@ def main():
     ap.add_argument("--episodes", type=int, default=30)
     ap.add_argument("--seconds", type=float, default=60.0)
     ap.add_argument("--hz", type=float, default=30.0)
+    ap.add_argument("--large-episodes", type=int, default=20,
+                    help="episodes at 640x480 and at 1280x720")
+    ap.add_argument("--publish", type=float, default=0.0,
+                    help="(the camera's process) publish 640x480 frames for this many seconds")
     args = ap.parse_args()
+    if args.publish:
+        return publish_stream(args.publish, args.hz, VGA)
     episodes, steps = closed_loop(args.episodes)
     out = {"step_ms_p50": float(np.percentile(steps, 50)), "step_ms_p99": float(np.percentile(steps, 99)),
            "episode_ms_p50": float(np.median(episodes)), "episode_ms_p99": float(np.percentile(episodes, 99)),
            "episodes": len(episodes)}
     print(f"step {out['step_ms_p50']:.2f} ms p50 / {out['step_ms_p99']:.2f} ms p99; "
           f"10-view episode {out['episode_ms_p50']:.1f} ms p50")
+    for name, camera in (("vga", VGA), ("hd", HD)):
+        _, large = closed_loop(args.large_episodes, camera)
+        out[f"{name}_step_ms_p50"] = float(np.percentile(large, 50))
+        out[f"{name}_step_ms_p99"] = float(np.percentile(large, 99))
+        print(f"{camera['width']}x{camera['height']} step {out[name + '_step_ms_p50']:.2f} ms "
+              f"p50 / {out[name + '_step_ms_p99']:.2f} ms p99 ({len(large)} steps)")
     out.update(stream(args.seconds, args.hz))
     print(f"{args.hz:.0f} Hz for {args.seconds:.0f} s: published {out['stream_published']}, "
           f"processed {out['stream_processed']}, unprocessed {out['stream_unprocessed']}, "
           f"rss growth {out['rss_growth_mb']:.1f} MB")
+    out.update(vga_stream(args.seconds, args.hz))
+    print(f"640x480 at {args.hz:.0f} Hz from another process (reliable publisher): published "
+          f"{out['vga_stream_published']}, received {out['vga_stream_received']}, processed "
+          f"{out['vga_stream_processed']}")
     emit(out)
 
 

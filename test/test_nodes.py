@@ -259,6 +259,40 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
         assert abs(taken[1] - asked[1]) > 0.3  # and not the view it asked for
 
 
+class StreamingCamera(Node):
+    """A camera streaming the requested view's image at 50 Hz and never publishing a pose."""
+
+    def __init__(self, ctx, image):
+        super().__init__("streaming_camera", context=ctx)
+        self.image, self.request = image, None
+        self.pub = self.create_publisher(Image, "depth/image", qos_profile_sensor_data)
+        self.create_subscription(PoseStamped, "next_view", self.on_view, 10)
+        self.create_timer(0.02, self.on_timer)
+
+    def on_view(self, msg):
+        self.request = msg
+
+    def on_timer(self):
+        if self.request is not None:
+            self.pub.publish(ma.metres_to_image(self.image(self.request),
+                                                self.get_clock().now().to_msg()))
+
+
+def test_a_stream_without_poses_faster_than_the_pose_tolerance_is_still_processed():
+    sim = SimulatedCamera()
+    sim.load(dataset="procedural", split="test", index=5)
+    with ros_session() as (ctx, executor):
+        recognizer = Recognizer(context=ctx, parameter_overrides=[
+            Parameter("pose_tolerance", value=0.05), Parameter("max_views", value=3)])
+        camera = StreamingCamera(ctx, lambda req: sim.capture(*ma.pose_to_camera(req))[0])
+        client = DemoClient(context=ctx)
+        for n in (recognizer, camera, client):
+            executor.add_node(n)
+        assert spin_until(executor, client.reset.service_is_ready, 10)
+        result = recognize(executor, client, timeout=15)
+        assert result is not None and result["status"] == "recognized" and result["views"] == 3
+
+
 @pytest.mark.parametrize("node,args,message", [
     ("recognizer", ["-p", "seed:=-1"], "parameter seed must be an integer from 0 to 4294967295"),
     ("recognizer", ["-p", "max_views:=0"], "parameter max_views must be an integer from 1 to 1000"),

@@ -17,12 +17,13 @@ import math
 
 import numpy as np
 import pytest
+import reference_reprojection as reference  # the whole-frame reprojection, before the crop
 
 from active_recognition import geometry
 from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig, TRUSTED
 from active_recognition.reprojection import (auto_standoff, fill_holes, reproject, seen_centre,
-                                             support_height)
+                                             spread, support_height)
 from active_recognition.simulated_camera import (SensorConfig, SimulatedCamera, kinect_sigma,
                                                  sensor_config)
 
@@ -276,3 +277,109 @@ def test_the_recognizer_recentres_a_wrong_object_frame_once_at_the_first_view(ch
     np.testing.assert_array_equal(close.centre, 0.0)
     with pytest.raises(ValueError, match="recentre"):
         SensingConfig(recentre=-0.1)
+
+
+def test_fill_holes_and_spread_match_the_whole_frame_loops():
+    """The hole-led fill and the distance-transform spread give what the plain loops over every
+    pixel's neighbours give (reference_reprojection), to the bit."""
+    rng = np.random.default_rng(3)
+    for t in range(150):
+        h, w = rng.integers(1, 40, 2)
+        z = rng.uniform(1, 1.1, (h, w)) if t % 2 else np.round(rng.uniform(1, 3, (h, w)), 1)
+        z[rng.random((h, w)) < rng.uniform(0, 0.8)] = np.inf
+        z[rng.random((h, w)) < (0.1 if t % 3 == 0 else 0.0)] = np.nan
+        fillable = rng.random((h, w)) < 0.7 if t % 4 == 0 else None
+        np.testing.assert_array_equal(fill_holes(z, fillable), reference.fill_holes(z, fillable))
+        d = rng.uniform(-3, 3, (h, w)).astype(np.float32).astype(np.float64)  # float32 depths
+        d[rng.random((h, w)) < rng.uniform(0.3, 1.0)] = np.nan
+        steps = int(rng.integers(0, 40))
+        np.testing.assert_array_equal(spread(d, steps), reference.spread(d, steps))
+
+
+def frames(sensor, n, seed=0):
+    """n frames of procedural test objects from random views, near and farther off."""
+    from active_recognition.datasets import default_cache_dir, open_dataset
+    rng = np.random.default_rng(seed)
+    test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
+    out = []
+    for i in rng.choice(len(test), n, replace=False):
+        sim = simulated(test.mesh(int(i))[:2], **sensor)
+        view = geometry.fibonacci_views(50)[rng.integers(50)]
+        pos = geometry.camera_position(*view, auto_standoff(sim.k) * rng.uniform(0.9, 1.5))
+        out.append((sim.capture(pos, geometry.optical_rotation(*view))[0], sim.k, pos,
+                    geometry.optical_rotation(*view)))
+    return out
+
+
+MODEL15 = CameraConfig(radius=1.5)  # the shipped model's
+REALSENSE = dict(width=640, height=480, fx=385.0, fy=385.0, noise="kinect", dropout=0.03,
+                 edge_dropout=75.0, floor=True)
+
+
+@pytest.mark.parametrize("sensor", [dict(), dict(fov=60.0), REALSENSE])
+def test_the_crop_reprojects_as_the_whole_frame_did(sensor):
+    """Every pixel read (stride 1), the crop gives the whole-frame reprojection. The one
+    difference: floor points outside the crop reach the support's estimate unfilled, which moves
+    its thickness by a little (a pixel or two, in a frame or two)."""
+    for z, k, pos, rot in frames(sensor, 4):
+        old = reference.reproject(z, k, pos, rot, MODEL15)
+        new = reproject(z, k, pos, rot, MODEL15, stride=1)
+        assert (np.abs(new.depth - old.depth) > 1e-3).sum() <= 8
+        assert new.view == pytest.approx(old.view) and new.cut == old.cut
+        assert new.object_fraction == pytest.approx(old.object_fraction, abs=0.003)
+        assert (new.support is None) == (old.support is None)
+        if old.support is not None:
+            assert new.support[0] == pytest.approx(old.support[0], abs=1e-3)
+        assert len(new.points) == pytest.approx(len(old.points), rel=0.01)
+        plain = reproject(z, k, pos, rot, MODEL15, stride=1, fill=False)
+        np.testing.assert_array_equal(  # without filling, to float error
+            np.round(plain.depth, 3), np.round(reference.reproject(z, k, pos, rot, MODEL15,
+                                                                   fill=False).depth, 3))
+
+
+def test_a_large_image_read_at_a_stride_is_as_near_the_truth():
+    """A 640x480 camera gives each of the model's pixels ~7x7 rays; every third row and column
+    (2x2 or more rays a model pixel) is as near the ideal camera's image as all of them."""
+    clean = {**REALSENSE, "noise": "none", "dropout": 0.0, "edge_dropout": 0.0}
+    near_all, near_strided = [], []
+    for (z, k, pos, rot), (ideal, *_) in zip(frames(REALSENSE, 4, 5), frames(clean, 4, 5)):
+        truth = reproject(ideal, k, pos, rot, MODEL15, stride=1).depth
+        full = reproject(z, k, pos, rot, MODEL15, stride=1)
+        fast = reproject(z, k, pos, rot, MODEL15)
+        assert (fast.support is None) == (full.support is None)
+        near_all.append(masks_iou(full.depth, truth))
+        near_strided.append(masks_iou(fast.depth, truth))
+        assert masks_iou(fast.depth, full.depth) > 0.75
+    assert np.mean(near_strided) > np.mean(near_all) - 0.02
+
+
+def test_the_first_view_is_back_projected_once(chair, monkeypatch):
+    """Re-centring reuses the frame's points: one back-projection and one render per image, and
+    the centre is the one three whole reprojections found."""
+    from active_recognition import recognizer
+    offset = np.array([0.12, -0.1, 0.06])
+    sim = simulated((chair[0] + np.float32(offset), chair[1]), width=160, height=120, fov=70.0)
+    core = ActiveRecognizer(planner="straight")
+    core.reset(view=VIEW)
+    z, pos, rot = sim.capture(*core.requested_pose(sim.k))
+    calls = {"frames": 0, "renders": 0}
+    frame, render = recognizer.Frame.__init__, recognizer.Frame.render
+
+    def counted(name, f):
+        def call(*args, **kwargs):
+            calls[name] += 1
+            return f(*args, **kwargs)
+        return call
+
+    monkeypatch.setattr(recognizer.Frame, "__init__", counted("frames", frame))
+    monkeypatch.setattr(recognizer.Frame, "render", counted("renders", render))
+    core.observe(z, sim.k, pos, rot)
+    assert calls == {"frames": 1, "renders": 1}
+    centre = np.zeros(3)  # the old way: reproject, move, reproject, move, reproject
+    seen = reference.reproject(z, sim.k, pos, rot, core.camera)
+    for _ in range(2):
+        found = centre + seen_centre(seen.points, pos - centre)
+        reach = np.linalg.norm(found)
+        centre = found * min(max(reach - TRUSTED, 0.0), core.sensing.recentre) / reach
+        seen = reference.reproject(z, sim.k, pos - centre, rot, core.camera)
+    np.testing.assert_allclose(core.centre, centre, atol=1e-9)

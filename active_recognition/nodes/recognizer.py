@@ -307,7 +307,10 @@ class Recognizer(Node):
                                f"is for {k.width}x{k.height}")
         pose = self.pose_at(seconds)
         if pose is None and self.expect_poses:  # its pose may still be on its way
-            self.pending = (seconds, metres, k, time.monotonic(), start)
+            # a newer image replaces the waiting one but not its wait: with no poses at all, a
+            # 30 Hz camera would otherwise restart the wait forever
+            since = self.pending[3] if self.pending is not None else time.monotonic()
+            self.pending = (seconds, metres, k, since, start)
             return
         self.process(metres, k, pose, start)
 
