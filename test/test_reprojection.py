@@ -21,6 +21,7 @@ import reference_reprojection as reference  # the whole-frame reprojection, befo
 
 from active_recognition import geometry
 from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
+from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig, TRUSTED
 from active_recognition.reprojection import (auto_standoff, fill_holes, reproject, seen_centre,
                                              spread, support_height)
@@ -304,7 +305,8 @@ def frames(sensor, n, seed=0):
     out = []
     for i in rng.choice(len(test), n, replace=False):
         sim = simulated(test.mesh(int(i))[:2], **sensor)
-        view = geometry.fibonacci_views(50)[rng.integers(50)]
+        views = ViewLimits(0.0, 90.0).initial_views(50)  # above the floor (opaque from below)
+        view = views[rng.integers(len(views))]
         pos = geometry.camera_position(*view, auto_standoff(sim.k) * rng.uniform(0.9, 1.5))
         out.append((sim.capture(pos, geometry.optical_rotation(*view))[0], sim.k, pos,
                     geometry.optical_rotation(*view)))
