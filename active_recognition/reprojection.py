@@ -396,8 +396,9 @@ class Frame:
         out[kept.count < 0.5 * samples] = np.inf
         out = out.reshape(self.camera.height, self.camera.width)
         found = float(np.isfinite(out).mean())
-        if fill:  # pixels no ray passed through: a camera farther off than the model's
-            out = fill_holes(out, samples.reshape(out.shape) == 0)
+        missed = samples.reshape(out.shape) == 0
+        if fill and missed.any():  # pixels no ray passed through: a camera farther off
+            out = fill_holes(out, missed)
         return Reprojection(normalise_depth(out, self.camera), kept.view, found, kept.support,
                             kept.points, kept.cut)
 
