@@ -40,6 +40,7 @@ import numpy as np
 
 from . import geometry
 from .depth_layer import CameraConfig, normalise_depth
+from .depth_pixels import FILL_ITERATIONS, MAX_SPREAD, fill_holes, spread, z_buffer
 from .validation import InputError
 
 STANDOFF_MARGIN = 1.1  # the auto standoff leaves 10 % around the object's bounding sphere
@@ -89,107 +90,7 @@ def seen_centre(points, position, oblique=0.8):
     return np.where(d < oblique, (points.min(0) + points.max(0)) / 2, 0.0)
 
 
-# the 8 neighbours of a pixel (row, column steps); i and i + 4 are opposite
-NEIGHBOURS = ((-1, 0), (0, -1), (-1, -1), (-1, 1), (1, 0), (0, 1), (1, 1), (1, -1))
-FILL_ITERATIONS = 4
-MAX_SPREAD = 32  # pixels
 RAYS_PER_PIXEL = 2  # at least so many rays of a large image across a model pixel (Frame)
-
-
-def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
-    """Fill missing pixels (inf) that lie inside a surface: between two opposite neighbours whose
-    depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
-    present (their median). Neither rule grows a silhouette: a pixel outside an edge, a corner or
-    a staircase has at most 2 direct neighbours. Only `fillable` pixels (default all) change.
-    Only holes with 2 or more of their 8 neighbours present are looked at, and after the first
-    round only those beside a pixel the round before filled."""
-    z = np.array(z, dtype=np.float64)
-    h, w = z.shape
-    finite = np.isfinite(z)
-    pad = np.full((h + 2, w + 2), np.nan)
-    pad[1:-1, 1:-1] = np.where(finite, z, np.nan)
-    open_ = np.zeros((h + 2, w + 2), bool)  # the holes that may be filled, padded
-    open_[1:-1, 1:-1] = ~finite if fillable is None else ~finite & fillable
-    start = open_.copy()
-    known = np.zeros((h + 2, w + 2), np.uint8)
-    known[1:-1, 1:-1] = finite
-    count = sum(known[1 + dr:1 + dr + h, 1 + dc:1 + dc + w] for dr, dc in NEIGHBOURS)
-    flat, holes = pad.ravel(), open_.ravel()
-    offsets = np.array([dr * (w + 2) + dc for dr, dc in NEIGHBOURS])
-    at = np.flatnonzero(open_[1:-1, 1:-1] & (count >= 2))
-    at = (at // w + 1) * (w + 2) + at % w + 1  # padded
-    for _ in range(iterations):
-        if len(at) == 0:
-            break
-        nb = flat[at + offsets[:, None]]  # (8, M)
-        a, b = nb[:4], nb[4:]
-        with np.errstate(invalid="ignore"):
-            gap = np.where(np.abs(a - b) <= agree * np.fmin(a, b), np.abs(a - b), np.inf)
-        pair = np.isfinite(gap).any(0)
-        direct = nb[[0, 1, 4, 5]]
-        present = (~np.isnan(direct)).sum(0)
-        crowd = ~pair & (present >= 3)
-        done = pair | crowd
-        if not done.any():
-            break
-        best = np.argmin(gap, 0)[None]
-        mean = (np.take_along_axis(a, best, 0)[0] + np.take_along_axis(b, best, 0)[0]) / 2
-        ordered = np.sort(direct, 0)  # NaN last: the median of 3 or of 4
-        median = np.where(present == 4, (ordered[1] + ordered[2]) / 2, ordered[1])
-        filled = at[done]
-        flat[filled] = np.where(pair, mean, median)[done]
-        holes[filled] = False
-        near = np.zeros(flat.size, bool)  # the holes beside them, each once
-        near[(filled + offsets[:, None]).ravel()] = True
-        at = np.flatnonzero(near & holes)
-    return np.where((start & ~open_)[1:-1, 1:-1], pad[1:-1, 1:-1], z)
-
-
-def _ordered_bits(x):
-    """float32 -> int64 in [0, 2^32) in the floats' order (the inverse: _from_ordered_bits)."""
-    bits = x.view(np.int32).astype(np.int64)
-    return np.where(bits < 0, -(bits & 0x7FFFFFFF), bits) + 2 ** 31
-
-
-def _from_ordered_bits(key):
-    key = key - 2 ** 31
-    bits = np.where(key < 0, -key | 0x80000000, key).astype(np.uint32)
-    return bits.view(np.float32)
-
-
-def spread(z, steps):
-    """Each missing pixel (NaN) takes the depth of a present pixel within `steps` pixels (4-way
-    steps, the nearest first, the smallest among equally near ones); farther ones stay NaN.
-
-    A city-block distance transform, exact: the distance and the depth (at float32 precision)
-    ride in one integer key, minimised with running minima down and up the columns, then along
-    the rows (a 4-way path can always go along a column first)."""
-    z = np.array(z, dtype=np.float64)
-    missing = np.isnan(z)
-    if steps <= 0 or missing.all() or not missing.any():
-        return z
-    depth = _ordered_bits(np.where(missing, 0, z).astype(np.float32))
-    key = np.where(missing, np.int64(2) ** 62, depth)  # distance << 32 | depth
-    for axis in (0, 1):
-        ramp = np.arange(key.shape[axis], dtype=np.int64) << 32
-        ramp = ramp[:, None] if axis == 0 else ramp[None, :]
-        down = np.minimum.accumulate(key - ramp, axis=axis) + ramp
-        up = np.flip(np.minimum.accumulate(np.flip(key + ramp, axis), axis=axis), axis) - ramp
-        key = np.minimum(down, up)
-    reach = missing & ((key >> 32) <= steps)
-    z[reach] = _from_ordered_bits(key[reach] & 0xFFFFFFFF)
-    return z
-
-
-def z_buffer(index, z, size, surface=0.1):
-    """Per pixel the depth of the nearest surface among the depths z landing on it (pixel indices
-    `index`): the mean of those within `surface` of the nearest; inf where none lands."""
-    near = np.full(size, np.inf)
-    np.minimum.at(near, index, z)
-    front = z <= near[index] + surface
-    count = np.bincount(index[front], minlength=size)
-    mean = np.bincount(index[front], z[front], minlength=size) / np.maximum(count, 1)
-    return np.where(count > 0, mean, np.inf)
 
 
 def box_pixels(lo, hi, k: geometry.Intrinsics, position, rotation, size, pad=0):

@@ -21,10 +21,10 @@ import reference_reprojection as reference  # the whole-frame reprojection, befo
 
 from active_recognition import geometry
 from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
+from active_recognition.depth_pixels import fill_holes, spread
 from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig, TRUSTED
-from active_recognition.reprojection import (auto_standoff, fill_holes, reproject, seen_centre,
-                                             spread, support_height)
+from active_recognition.reprojection import auto_standoff, reproject, seen_centre, support_height
 from active_recognition.simulated_camera import (SensorConfig, SimulatedCamera, kinect_sigma,
                                                  sensor_config)
 
