@@ -33,11 +33,14 @@ FORMAT = "active_recognition/1"
 SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
 
 
+SHIPPED_FOR = {"procedural": "procedural.pt", "twins": "twins.pt", "modelnet": "modelnet10.pt"}
+
+
 def shipped(dataset="procedural"):
-    """The shipped model of an embedded dataset."""
-    if dataset not in ("procedural", "twins"):
-        raise InputError(f"shipped models exist for procedural and twins, not {dataset!r}")
-    return SHIPPED.with_name(f"{dataset}.pt")
+    """The shipped model of a dataset (modelnet: ModelNet10's)."""
+    if dataset not in SHIPPED_FOR:
+        raise InputError(f"shipped models exist for {', '.join(SHIPPED_FOR)}, not {dataset!r}")
+    return SHIPPED.with_name(SHIPPED_FOR[dataset])
 
 
 class CheckpointError(InputError):

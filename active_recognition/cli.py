@@ -131,8 +131,9 @@ def add_train(sub):
     p.add_argument("--revisit-penalty", dest="revisit_penalty", type=own("revisit_penalty"),
                    help="learned: weight of the penalty on views within 30 degrees of earlier ones (0)")
     p.add_argument("--random-views", dest="random_views", type=own("random_views"),
-                   help="learned: chance that a training step's next view is a random one, so the "
-                        "classifier learns from any sequence of views (0)")
+                   help="learned, imitation: chance that a training step looks somewhere random "
+                        "(imitation: an unvisited candidate), so the classifier learns from any "
+                        "sequence of views (0)")
     p.add_argument("--distill-loc", dest="distill_loc", type=own("distill_loc"),
                    help="imitation: weight of FC_loc's loss toward the oracle's view, so the "
                         "paper's continuous head learns where the teacher looks (0)")

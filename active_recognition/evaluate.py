@@ -147,8 +147,8 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
     """(model, classes, cfg's dataset split as the model's camera sees it, the checkpoint dict)
     for a checkpoint (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
     splits (and their built cameras) for the next checkpoint with the same camera."""
-    if path is None and cfg.dataset in ("procedural", "twins"):
-        path = checkpoint.shipped(cfg.dataset)  # the embedded dataset's own shipped model
+    if path is None and cfg.dataset in checkpoint.SHIPPED_FOR:
+        path = checkpoint.shipped(cfg.dataset)  # the dataset's own shipped model
     model, classes, ckpt = checkpoint.load_model(path)
     size, radius = model.config.image_size, model.config.radius
     splits = {} if splits is None else splits

@@ -139,9 +139,10 @@ class ImitationLoss(nn.Module):
     """
 
     def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None, limits=None,
-                 distill=0.0):
+                 distill=0.0, random_views=0.0):
         super().__init__()
         self.distill = distill  # weight of FC_loc's loss toward the teacher's view
+        self.random_views = random_views  # chance a step goes to a random unvisited candidate
         self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
@@ -181,4 +182,9 @@ class ImitationLoss(nn.Module):
                 delta, increment_toward(episode.view.detach(), goal, self.model.config.max_step)))
         follow = torch.rand(len(target), device=target.device) < self.mix
         choice = torch.where(follow, target, masked.detach().argmax(1))
+        if self.random_views:  # so the classifier also learns from sequences no head would take
+            anywhere = torch.rand(masked.shape, device=target.device).masked_fill(
+                torch.as_tensor(visited, device=target.device), -1.0).argmax(1)
+            jump = torch.rand(len(target), device=target.device) < self.random_views
+            choice = torch.where(jump, anywhere, choice)
         return self.candidates[choice.cpu().numpy()]

@@ -65,7 +65,7 @@ class TrainConfig:
     # imitation: weight of FC_loc's loss toward the oracle's view (the paper's head distilled)
     distill_loc: float = option(0.0, lo=0)
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
-    random_views: float = option(0.0, lo=0, hi=1)   # learned: chance a training step looks anywhere
+    random_views: float = option(0.0, lo=0, hi=1)   # chance a training step looks anywhere new
     # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame):
     # every training view, first and later, keeps inside; the default is the whole sphere
     min_elevation: float = option(-90.0, lo=-90, hi=90)
@@ -209,7 +209,7 @@ def joint_loss(cfg: TrainConfig, model, corrupt):
                              reduction=cfg.gradient_reduction, corrupt=corrupt, limits=limits)
     if cfg.policy == "imitation":
         return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt, limits,
-                             cfg.distill_loc)
+                             cfg.distill_loc, cfg.random_views)
     return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
                      cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views, limits)
 

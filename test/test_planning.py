@@ -28,7 +28,7 @@ from active_recognition.depth_layer import DepthCamera
 from active_recognition.episode import Episode, EpisodeConfig
 from active_recognition.losses import ImitationLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner
+from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner, nearest_candidates
 from active_recognition.shared_classifier import MultiViewClassifier
 from active_recognition.view_sets import best_fixed_views, best_subset_accuracy, subset_logits
 
@@ -344,3 +344,27 @@ def test_distillation_teaches_fc_loc_the_increment_toward_the_oracles_view():
         opt.step()
         errors.append(float(loss.head_losses[1].detach()))
     assert np.mean(errors[-5:]) < 0.5 * np.mean(errors[:5])
+
+
+def test_imitation_with_random_views_jumps_to_unvisited_candidates_at_its_rate():
+    torch.manual_seed(1)
+    model = small_model(candidates=12)
+    cams = [DepthCamera(*make_shape(k % 12, 3, False)) for k in range(40)]
+    labels = torch.tensor([k % 3 for k in range(40)])
+    for rate in (0.0, 1.0):
+        loss = ImitationLoss(model, steps=4, mix=1.0, random_views=rate)  # else: the teacher
+        chosen, targets = [], []
+        original = loss.oracle_targets
+
+        def spy(*args):
+            targets.append(original(*args))
+            return targets[-1]
+        loss.oracle_targets = spy
+        step = loss.next_view
+        loss.next_view = lambda ep, s: chosen.append(step(ep, s)) or chosen[-1]
+        loss(cams, geometry.fibonacci_views(50)[:40], labels)
+        picked = np.stack([nearest_candidates(c, loss.candidates) for c in chosen])   # (T, B)
+        teacher = torch.stack(targets).numpy()
+        assert all(len(set(col)) == len(col) for col in picked.T)  # never a visited one
+        agree = (picked == teacher).mean()
+        assert agree == 1.0 if rate == 0.0 else agree < 0.3
