@@ -96,6 +96,10 @@ def main():
     ap.add_argument("--objects", type=int, default=0, help="0: the whole test split")
     ap.add_argument("--starts", type=int, default=3, help="seeded initial views per object (>= 3)")
     ap.add_argument("--out", default=None, help="report folder (default docs/results[/DATASET])")
+    ap.add_argument("--min-elevation", type=float, default=-90.0,
+                    help="degrees: views from no lower (-90: the whole sphere, the paper's; 0: a "
+                         "robot's, nothing from below the object's support)")
+    ap.add_argument("--max-elevation", type=float, default=90.0, help="degrees: views from no higher")
     ap.add_argument("--ship", action="store_true",
                     help="write the measured best planner (and the fixed path) into the "
                          "dataset's shipped model, for the recognizer's planner 'auto'")
@@ -128,7 +132,8 @@ def main():
             ap.error(f"{path}: no such metrics file (train the run first, or pass --*-metrics)")
     cfg = EvalConfig(checkpoint=model, planner_checkpoints=own, planners=PLANNERS[args.dataset],
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
-                     starts=args.starts, out=str(out))
+                     starts=args.starts, out=str(out), min_elevation=args.min_elevation,
+                     max_elevation=args.max_elevation)
     chosen, val_acc = choose_default(cfg, out)  # on the validation split, before test is read
     results = evaluate(cfg)
     s = summary(results)
