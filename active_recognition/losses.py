@@ -26,7 +26,7 @@ from torch import nn
 
 from . import geometry
 from .episode import Episode, EpisodeConfig, run
-from .policies import teacher_choice, visited_mask
+from .policies import teacher_choice, unavailable
 from .reach import reach_of
 
 
@@ -147,9 +147,6 @@ class ImitationLoss(nn.Module):
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
         self.limits = limits
-        # candidates the robot cannot take are never a target (nor FC_view's choice)
-        self.out = np.zeros(len(self.candidates), bool) if limits is None else \
-            ~limits.allows(self.candidates)
 
     def oracle_targets(self, cand_features, hidden, labels, visited):
         """(B,) index of the best unvisited candidate for each object (the oracle's choice)."""
@@ -170,16 +167,17 @@ class ImitationLoss(nn.Module):
 
     def next_view(self, episode, step):
         """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
-        visited = visited_mask(episode, self.candidates) | self.out[None]
+        # visited, or out of reach: never a target, nor FC_view's choice
+        visited = unavailable(episode, self.candidates)
         target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
         scores = self.model.score_views(episode.hidden)
         masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
         self.head_losses.append(nn.functional.cross_entropy(masked, target))
         if self.distill:  # the paper's head learns the teacher's move as a continuous increment
             goal = torch.as_tensor(self.candidates, dtype=torch.float32, device=target.device)[target]
-            delta = self.model.config.max_step * torch.tanh(self.model.locate(episode.hidden))
             self.head_losses.append(self.distill * nn.functional.mse_loss(
-                delta, increment_toward(episode.view.detach(), goal, self.model.config.max_step)))
+                self.model.increment(episode.hidden),
+                increment_toward(episode.view.detach(), goal, self.model.config.max_step)))
         follow = torch.rand(len(target), device=target.device) < self.mix
         choice = torch.where(follow, target, masked.detach().argmax(1))
         if self.random_views:  # so the classifier also learns from sequences no head would take

@@ -132,8 +132,12 @@ class RecurrentAttention(nn.Module):
         """One step from the image(s) taken at view (B, 2): (logits (B, C), view increment (B, 2),
         new hidden (B, hidden_size))."""
         hidden = self.advance(self.features(depth), hidden, view)
-        delta = self.config.max_step * torch.tanh(self.locate(hidden))
+        delta = self.increment(hidden)
         return self.classify(hidden), delta, hidden
+
+    def increment(self, hidden):
+        """The view increment FC_loc asks for from a state: (dtheta, dphi) (B, 2), each within +-max_step."""
+        return self.config.max_step * torch.tanh(self.locate(hidden))
 
     def classify_image(self, depth, view=None):
         """The shape classifier alone: logits from one image, from a zero state."""

@@ -102,17 +102,27 @@ def visited_mask(episode, candidates, pending=True):
     it asked for where the robot took another (so a request is not made again); with
     `pending`, the view asked for next too."""
     views = list(episode.views if pending else episode.views[:episode.steps])
-    mask = np.zeros((len(episode.view), len(candidates)), dtype=bool)
-    for view in views + list(getattr(episode, "requested", [])):
-        mask[np.arange(len(mask)), nearest_candidates(view.detach().cpu().numpy(), candidates)] = True
+    views = torch.stack(views + list(getattr(episode, "requested", []))).detach().cpu().numpy()
+    b = views.shape[1]                                                              # (T, B, 2)
+    nearest = nearest_candidates(views.reshape(-1, 2), candidates).reshape(-1, b)   # (T, B)
+    mask = np.zeros((b, len(candidates)), dtype=bool)
+    mask[np.broadcast_to(np.arange(b), nearest.shape), nearest] = True
     return mask
+
+
+def unavailable(episode, candidates, pending=True):
+    """(B, K) bool: the candidates a planner must not choose: visited (visited_mask) or out of
+    the robot's reach."""
+    return visited_mask(episode, candidates, pending) | ~reachable(episode, candidates)[None]
 
 
 def exhausted(episode, candidates):
     """(B,) bool: every candidate the episode's robot can reach has been seen (or asked for and
     missed), so a candidate planner has nothing new to look at."""
-    seen = visited_mask(episode, candidates, pending=False)
-    return (seen | ~reachable(episode, candidates)[None]).all(1)
+    free = reachable(episode, candidates)
+    if episode.steps + len(getattr(episode, "requested", [])) < free.sum():
+        return np.zeros(len(episode.view), bool)  # each view marks one candidate at most
+    return (visited_mask(episode, candidates, pending=False) | ~free[None]).all(1)
 
 
 class ImitationPlanner:
@@ -127,8 +137,7 @@ class ImitationPlanner:
     def next_view(self, episode, step):
         with torch.no_grad():
             scores = episode.model.score_views(episode.hidden).cpu().numpy()
-        scores[visited_mask(episode, self.candidates)] = -np.inf
-        scores[:, ~reachable(episode, self.candidates)] = -np.inf
+        scores[unavailable(episode, self.candidates)] = -np.inf
         return self.candidates[scores.argmax(1)]
 
 
@@ -182,10 +191,10 @@ class OraclePlanner(CandidateFeatures):
     def next_view(self, episode, step):
         device = episode.view.device
         feats = torch.stack([self.of(episode.model, i, device) for i in range(len(self.cameras))])
-        out = ~reachable(episode, self.candidates)[None]
-        barred = visited_mask(episode, self.candidates) | out
+        barred = unavailable(episode, self.candidates)
         spent = barred.all(1)  # every reachable candidate seen: the teacher has nothing new
-        barred[spent] = out[0] if not out.all() else False
+        out = ~reachable(episode, self.candidates)
+        barred[spent] = out if not out.all() else False
         pick = teacher_choice(episode.model, feats, episode.hidden, self.labels.to(device),
                               self.candidates, barred)
         return self.candidates[pick.cpu().numpy()]

@@ -234,8 +234,7 @@ class ActiveRecognizer:
             view = torch.tensor([seen.view], dtype=torch.float32)
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
-        if not bool(step.done[0]) and self.may_be_exhausted() and \
-                exhausted(self.episode, self.planner_candidates)[0]:
+        if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
             self.episode.done[0] = True  # every reachable candidate used: nothing new to see
             self.episode.stopped_at[0] = self.episode.steps
         done = bool(self.episode.done[0])
@@ -255,12 +254,6 @@ class ActiveRecognizer:
             yield
         finally:
             torch.set_num_threads(before)
-
-    def may_be_exhausted(self):
-        """A cheap bound: too few views seen (or asked for, or blocked, each of which may cover a
-        few candidates) for every reachable candidate to be used up."""
-        used = self.episode.steps + len(self.episode.requested) + 3 * len(self.reach.blocked)
-        return used >= int(self.reach.limits.allows(self.planner_candidates).sum())
 
     def views_taken(self):
         return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])

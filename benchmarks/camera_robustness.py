@@ -80,7 +80,8 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
     k = sensor.intrinsics()
     test = open_dataset(dataset, root, split, cache_dir=default_cache_dir())
     rng = np.random.default_rng(seed)
-    starts = LIMITS.initial_views(50)[rng.integers(len(LIMITS.initial_views(50)), size=len(test))]
+    initial = LIMITS.initial_views(50)
+    starts = initial[rng.integers(len(initial), size=len(test))]
     directions = rng.standard_normal((len(test), 3))
     directions /= np.linalg.norm(directions, axis=1, keepdims=True)
     yaws = rng.uniform(0, 2 * np.pi, len(test)) if yaw else np.zeros(len(test))
