@@ -240,7 +240,7 @@ def add_demo(sub):
 def cmd_evaluate(args):
     import json
 
-    from .evaluate import EvalConfig, evaluate_with_training_time, planner_checkpoints
+    from .evaluate import EvalConfig, evaluate, planner_checkpoints, summary
     from .run_metrics import load_run_pair
 
     runs = load_run_pair(args.learned_metrics, args.reinforce_metrics)  # read before the work
@@ -252,7 +252,7 @@ def cmd_evaluate(args):
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
                      shared=not args.no_shared, min_elevation=args.min_elevation,
                      max_elevation=args.max_elevation)
-    s = evaluate_with_training_time(cfg, runs)
+    s = summary(evaluate(cfg, runs=runs))
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
 

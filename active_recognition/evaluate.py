@@ -22,7 +22,6 @@ Markdown report and PNG plots.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import torch
@@ -34,7 +33,7 @@ from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
 from .policies import PLANNERS, make_planner
 from .reach import ViewLimits, reach_of
-from .report import write_json, write_report
+from .report import write_report
 from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
                          validate)
 
@@ -88,6 +87,7 @@ class Rollout:
     stopped_at: np.ndarray   # (N,) step of the entropy stop (1-based)
     shared_probs: np.ndarray = field(default=None)  # (N, T, C) shared classifier on views[:t]
     path: np.ndarray = field(default=None)          # the fixed planner's path (k, 2)
+    classes: list = field(default=None)             # the class names, in the order of the labels
 
     def accuracy(self, shared=False):
         probs = self.shared_probs if shared else self.probs
@@ -128,7 +128,8 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
         parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),
                       torch.stack(ep.info_gain, 1).numpy(), ep.stopped_at.numpy()))
     views, probs, gain, stopped = (np.concatenate(x) for x in zip(*parts))
-    return Rollout(name, objects, shapes.labels[objects], starts, views, probs, gain, stopped)
+    return Rollout(name, objects, shapes.labels[objects], starts, views, probs, gain, stopped,
+                   classes=list(shapes.ds.classes))
 
 
 def score_shared(net, shapes, ro: Rollout, chunk=50):
@@ -163,8 +164,10 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
     return model, classes, shapes, ckpt
 
 
-def evaluate(cfg: EvalConfig, progress=True):
-    """Run every planner; write the report under cfg.out; return {planner: Rollout}."""
+def evaluate(cfg: EvalConfig, progress=True, runs=()):
+    """Run every planner; write the report under cfg.out; return {planner: Rollout}. With
+    `runs` (the learned and the reinforce run's metrics rows), the report holds the
+    training-time comparison too."""
     paths = {**({"reinforce": cfg.reinforce_checkpoint} if cfg.reinforce_checkpoint else {}),
              **cfg.planner_checkpoints}
     if "reinforce" in cfg.planners and "reinforce" not in paths:
@@ -211,7 +214,11 @@ def evaluate(cfg: EvalConfig, progress=True):
     if cfg.shared:
         for ro in results.values():
             score_shared(net, test, ro)
-    write_report(results, summary(results), classes, cfg, out, test)
+    s = summary(results)
+    if runs:
+        from .run_metrics import training_time
+        s["training_time"] = training_time(*runs, out / "training_time.png")
+    write_report(results, s, classes, cfg, out, test)
     return results
 
 
@@ -228,17 +235,6 @@ def planner_checkpoints(items):
     return own
 
 
-def evaluate_with_training_time(cfg: EvalConfig, runs=()):
-    """evaluate(cfg) and its summary; with `runs` (the learned and the reinforce run's metrics
-    rows), the training-time comparison too, in the summary and its plot."""
-    s = summary(evaluate(cfg))
-    if runs:
-        from .run_metrics import training_time
-        s["training_time"] = training_time(*runs, Path(cfg.out) / "training_time.png")
-        write_json(Path(cfg.out) / "summary.json", s)
-    return s
-
-
 def summary(results):
     """{'acc': {planner: {'3','6','9'}}, ...} as printed by benchmarks and written to JSON."""
     def at(ro, shared=False):
@@ -248,6 +244,9 @@ def summary(results):
          "gain": {n: np.round(ro.gain.mean(0), 4).tolist() for n, ro in results.items()},
          "early_stop": {n: dict(zip(("accuracy", "mean_views"), (round(v, 4) for v in ro.early_stop())))
                         for n, ro in results.items()}}
+    first = next(iter(results.values()))
+    if first.classes is not None:  # every writer of a summary names the classes its tables use
+        s["classes"] = first.classes
     three = next(iter(results.values())).probs.shape[1] >= 3  # episodes of 3 views or more
     if three:
         s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}

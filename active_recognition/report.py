@@ -40,7 +40,7 @@ def write_report(results, s, classes, cfg, out, shapes):
     plots and report.md."""
     out = Path(out)
     write_csv(out / "per_object.csv", results, classes)
-    write_json(out / "summary.json", {**s, "classes": list(classes)})
+    write_json(out / "summary.json", s)
     plot_accuracy(results, out / "accuracy_vs_views.png")
     if next(iter(results.values())).probs.shape[1] >= 3:
         plot_confusion(results, classes, out / "confusion.png")
