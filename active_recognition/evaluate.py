@@ -27,7 +27,7 @@ import numpy as np
 import torch
 
 from . import checkpoint
-from .datasets import NAMES, SPLITS, default_cache_dir, open_dataset
+from .datasets import NAMES, SPLITS, default_cache_dir, open_dataset, open_splits
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
@@ -191,14 +191,12 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     net = fixed = None
     if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
-        train = Shapes(open_dataset(cfg.dataset, cfg.root, "train", cache_dir=default_cache_dir()),
-                       test.camera)
+        parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())
+        train, val = (Shapes(parts[s], test.camera) for s in ("train", "val"))
         net = load_or_train(out / "shared_classifier.pt", train, classes, seed=cfg.seed,
                             progress=progress)
         if "fixed" in cfg.planners:  # chosen on the validation split, which the judge never saw
             from .view_sets import fixed_path
-            val = Shapes(open_dataset(cfg.dataset, cfg.root, "val", cache_dir=default_cache_dir()),
-                         test.camera)
             fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits())
             if progress:
                 print(f"fixed path {np.round(fixed, 3).tolist()} (shared-classifier accuracy "

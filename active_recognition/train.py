@@ -35,7 +35,7 @@ from tqdm import tqdm
 
 from . import checkpoint
 from .augment import Augment
-from .datasets import NAMES, default_cache_dir, open_dataset
+from .datasets import NAMES, default_cache_dir, open_splits
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig, GRADIENT_RULES
 from .devices import distributed, resolve_device
@@ -250,13 +250,13 @@ class Trainer:
 
     def load_data(self):
         cfg, cache = self.cfg, default_cache_dir()
-        self.train_ds = open_dataset(cfg.dataset, cfg.root, "train", cache_dir=cache).require_objects()
+        # per-epoch figures on the validation split; the test split stays unread until the end
+        parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), cache)
+        self.train_ds, self.val_ds = parts["train"].require_objects(), parts["val"]
         self.classes = list(self.train_ds.classes)
         if len(self.classes) < 2:
             raise InputError(f"{self.train_ds.layout or cfg.dataset}: {len(self.classes)} class "
                              f"{self.classes}; recognising needs at least 2")
-        # per-epoch figures on the validation split; the test split stays unread until the end
-        self.val_ds = open_dataset(cfg.dataset, cfg.root, "val", cache_dir=cache)
         if cfg.max_shapes:  # a seeded subset with every class in it
             n = len(self.train_ds)
             self.train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(n)[:cfg.max_shapes]))

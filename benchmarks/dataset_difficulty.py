@@ -36,7 +36,7 @@ import torch
 from common import emit
 
 from active_recognition import geometry
-from active_recognition.datasets import GENERATED, NAMES, default_cache_dir, open_dataset
+from active_recognition.datasets import GENERATED, NAMES, default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
 from active_recognition.policies import nearest_candidates
@@ -72,9 +72,8 @@ def main():
     t0 = time.perf_counter()
     cam = CameraConfig(64, 64)
     cache = default_cache_dir()
-    train = Shapes(open_dataset(args.dataset, args.root, "train", cache_dir=cache), cam)
-    val = Shapes(open_dataset(args.dataset, args.root, "val", cache_dir=cache), cam)
-    test = Shapes(open_dataset(args.dataset, args.root, "test", cache_dir=cache), cam)
+    parts = open_splits(args.dataset, args.root, ("train", "val", "test"), cache)
+    train, val, test = (Shapes(parts[s], cam) for s in ("train", "val", "test"))
     net = train_shared(train, len(train.ds.classes), epochs=args.epochs, seed=args.seed)
     print(f"classifier trained in {time.perf_counter() - t0:.0f} s")
     rng = np.random.default_rng(args.seed)

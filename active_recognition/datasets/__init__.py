@@ -16,6 +16,8 @@
 (procedural, twins)."""
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .base import ShapeDataset, default_cache_dir
@@ -40,24 +42,44 @@ def open_dataset(name, root=None, split="train", cache_dir=None, validate=True, 
     `train` is the dataset's training split less `val`, a seeded VAL_FRACTION of each class of
     it (validation_split): every choice (epoch, settings, fixed path, default planner) is made
     on `val`, and `test` is read only for the final tables."""
-    if split not in SPLITS:
-        raise InputError(f"split must be one of {', '.join(SPLITS)}, got {split!r}")
-    source = "train" if split in ("train", "val") else split
+    return open_splits(name, root, (split,), cache_dir, validate, **kwargs)[split]
+
+
+def open_splits(name, root=None, splits=("train", "val"), cache_dir=None, validate=True, **kwargs):
+    """{split: dataset} for several splits, each of the dataset's own splits read once (`train`
+    and `val` are carved from one read of its training split)."""
+    bad = [s for s in splits if s not in SPLITS]
+    if bad:
+        raise InputError(f"split must be one of {', '.join(SPLITS)}, got {bad[0]!r}")
+    read = {}
+    for split in splits:
+        source = "train" if split in ("train", "val") else split
+        if source not in read:
+            read[source] = read_split(name, root, source, cache_dir, validate, **kwargs)
+    return {s: validation_split(copy_of(read["train"]), s) if s in ("train", "val") else read[s]
+            for s in splits}
+
+
+def copy_of(ds: ShapeDataset):
+    """A dataset of the same items, to keep part of (its meshes shared, not copied)."""
+    return replace(ds, items=list(ds.items), skipped=list(ds.skipped), _meshes=dict(ds._meshes))
+
+
+def read_split(name, root, source, cache_dir=None, validate=True, **kwargs):
+    """One of the dataset's own splits (train, test, cross), as its loader reads it."""
     if name in GENERATED:
         if root:
             raise InputError(f"the {name} dataset is generated: it takes no root folder "
                              f"(got {root}); roots are for modelnet, shapenet and folder")
-        ds = GENERATED[name](source, cache_dir=cache_dir, **kwargs)
-    else:
-        loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
-        if name not in loaders:
-            raise InputError(f"dataset must be one of {', '.join(NAMES)}, got {name!r}")
-        if split == "cross":
-            raise InputError(f"the cross split (held-out styles) is a generated benchmark's; "
-                             f"{name} has train, val and test")
-        ds = loaders[name](root, source, cache_dir=cache_dir, **kwargs)
-        ds = ds.validate() if validate else ds
-    return validation_split(ds, split) if source == "train" else ds
+        return GENERATED[name](source, cache_dir=cache_dir, **kwargs)
+    loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
+    if name not in loaders:
+        raise InputError(f"dataset must be one of {', '.join(NAMES)}, got {name!r}")
+    if source == "cross":
+        raise InputError(f"the cross split (held-out styles) is a generated benchmark's; "
+                         f"{name} has train, val and test")
+    ds = loaders[name](root, source, cache_dir=cache_dir, **kwargs)
+    return ds.validate() if validate else ds
 
 
 def validation_split(ds: ShapeDataset, split, fraction=VAL_FRACTION, seed=VAL_SEED):
@@ -80,7 +102,7 @@ def describe(name, root=None, cache_dir=None):
     a split lacks. -> {split: dataset}. InputError, saying what was looked for, when empty."""
     import sys
 
-    splits = {s: open_dataset(name, root, s, cache_dir=cache_dir) for s in ("train", "val", "test")}
+    splits = open_splits(name, root, ("train", "val", "test"), cache_dir)
     classes = splits["train"].classes
     width = max(len(c) for c in classes + ["class"])
     print(f"{name}: {len(classes)} classes")
@@ -103,5 +125,5 @@ def describe(name, root=None, cache_dir=None):
     return splits
 
 
-__all__ = ["ShapeDataset", "open_dataset", "validation_split", "default_cache_dir", "describe",
+__all__ = ["ShapeDataset", "open_dataset", "open_splits", "validation_split", "default_cache_dir", "describe",
            "NAMES", "SPLITS"]
