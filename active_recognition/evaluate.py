@@ -22,6 +22,7 @@ Markdown report and PNG plots.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import torch
@@ -57,6 +58,8 @@ class EvalConfig:
     seed: int = option(0, lo=0, hi=SEED_MAX)
     out: str = option("runs/eval", length=(1, None))
     shared: bool = option(True)             # also score every planner with the shared classifier
+    # where the shared classifier is kept (trained once for its shapes and camera); None: in out
+    judge: str | None = option(None, kind=str, optional=True, length=(1, None))
     oracle_candidates: int = option(50, lo=1, hi=10_000)
     trajectory_figures: int = option(3, lo=0, hi=100)
     # the views a robot can take (reach.ViewLimits, degrees of elevation): the initial views are
@@ -193,7 +196,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         from .shared_classifier import load_or_train
         parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())
         train, val = (Shapes(parts[s], test.camera) for s in ("train", "val"))
-        net = load_or_train(out / "shared_classifier.pt", train, classes, seed=cfg.seed,
+        net = load_or_train(Path(cfg.judge or out / "shared_classifier.pt"), train, classes, seed=cfg.seed,
                             progress=progress)
         if "fixed" in cfg.planners:  # chosen on the validation split, which the judge never saw
             from .view_sets import fixed_path

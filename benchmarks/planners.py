@@ -23,7 +23,6 @@ Writes the report under docs/results/ (docs/results/<dataset>/ for other dataset
 procedural, docs/results/<dataset>-cross/ for `--split cross`, the held-out styles) and
 re-renders docs/RESULTS.md. Last line is JSON."""
 import argparse
-import shutil
 from dataclasses import replace
 from pathlib import Path
 
@@ -66,17 +65,11 @@ def ship(path, s):
 def choose_default(cfg: EvalConfig, out):
     """The default planner: the best of the planners a robot can use (not the oracle) after 3
     views with the model's own classifier, on the validation split. -> (name, {planner: acc})."""
-    val_out = Path(out) / "val"
-    val_out.mkdir(parents=True, exist_ok=True)
-    judge = Path(out) / "shared_classifier.pt"  # the fixed path's judge, trained once
-    if judge.is_file() and not (val_out / judge.name).is_file():
-        shutil.copy(judge, val_out / judge.name)
     fair = [p for p in cfg.planners if p != "oracle"]
+    judge = Path(out) / "shared_classifier.pt"  # the fixed path's judge, the test run's too
     s = summary(evaluate(replace(cfg, split="val", objects=0, planners=tuple(fair), shared=False,
-                                 out=str(val_out))))
+                                 out=str(Path(out) / "val"), judge=str(judge))))
     acc = {k: v["3"] for k, v in s["acc"].items()}
-    if not (Path(out) / judge.name).is_file() and (val_out / judge.name).is_file():
-        shutil.copy(val_out / judge.name, judge)
     return max(acc, key=acc.get), acc
 
 
