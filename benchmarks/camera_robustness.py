@@ -37,6 +37,7 @@ from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
 from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.report import write_json
 from active_recognition.simulated_camera import SimulatedCamera, sensor_config
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -161,9 +162,7 @@ def main(argv=None):
               "checkpoint": str(args.checkpoint or SHIPPED_MODEL[args.dataset])}
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(args.out + ".tmp")
-        tmp.write_text(json.dumps(result, indent=1))
-        tmp.replace(args.out)
+        write_json(Path(args.out), result)
     print(json.dumps(result))
 
 

@@ -23,7 +23,6 @@ Writes docs/results/robot_loop.json. Last line is JSON:
 "mean_views", "s_per_episode"}}}.
 """
 import argparse
-import json
 import os
 import subprocess
 import sys
@@ -33,6 +32,8 @@ from pathlib import Path
 import numpy as np
 
 from common import emit
+
+from active_recognition.report import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "config" / "fastdds_large_frames.xml"
@@ -88,7 +89,11 @@ def run_camera(name, objects, seed, timeout):
             return answers, results, seconds
     finally:
         proc.terminate()
-        proc.wait(timeout=10)
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:  # a node that ignores SIGTERM while shutting down
+            proc.kill()
+            proc.wait()
 
 
 def main(argv=None):
@@ -119,9 +124,7 @@ def main(argv=None):
               f"{report[name]['s_per_episode']:.2f} s an episode (median)")
     result = {**{k: v["acc"] for k, v in report.items()}, "objects": len(objects), "cameras": report}
     if args.out:
-        tmp = Path(args.out).with_name(f".{Path(args.out).name}.tmp")
-        tmp.write_text(json.dumps(result, indent=1))
-        tmp.replace(args.out)
+        write_json(Path(args.out), result)
     emit(result)
 
 
