@@ -24,6 +24,9 @@ Meshes (a new one per training episode):
   high leaves a ragged bottom).
 Images: `dropout`: up to that fraction of pixels missing (drawn per image), plus pixels on depth
 edges dropped at the same rate (flying-pixel removal); missing pixels read as misses (255).
+`steep`: the chance that an image loses, as a driver's flying-pixel filter removes them, every
+pixel beside a jump to a 4-neighbour steeper than a surface seen 70-85 degrees from face-on
+(simulated_camera.edge_dropout's rule, on the model's own camera: needs `view_camera`).
 """
 from __future__ import annotations
 
@@ -44,12 +47,22 @@ class Augment:
     floor_cut: float = 0.0
     dropout: float = 0.0
     box_margin: float = 0.1
+    steep: float = 0.0
+    view_camera: object = None  # depth_layer.CameraConfig of the images (for `steep`)
 
     def __post_init__(self):
         for name in ("frame_error", "floor_cut", "dropout"):
             value = getattr(self, name)
             if not 0 <= value < 0.5:
                 raise ValueError(f"augmentation {name} must lie in [0, 0.5), got {value}")
+        if not 0 <= self.steep <= 1:
+            raise ValueError(f"augmentation steep is a chance in [0, 1], got {self.steep}")
+        if self.steep > 0 and self.view_camera is None:
+            raise ValueError("augmentation steep needs the images' camera")
+
+    @property
+    def changes_images(self):
+        return self.dropout > 0 or self.steep > 0
 
     @property
     def meshes(self):
@@ -83,10 +96,14 @@ class Augment:
 
     def images(self, depth: torch.Tensor, generator: torch.Generator | None = None):
         """Drop pixels of normalised depth (..., H, W): missing ones read as misses."""
-        if self.dropout <= 0:
+        if not self.changes_images:
             return depth
         shape = depth.shape
         flat = depth.reshape(-1, *shape[-2:])
+        if self.steep > 0:
+            flat = self.steep_removed(flat, generator)
+        if self.dropout <= 0:
+            return flat.reshape(shape)
         rate = torch.rand(len(flat), 1, 1, generator=generator) * self.dropout
         drop = torch.rand(flat.shape, generator=generator) < rate
         d = flat.detach()
@@ -99,3 +116,27 @@ class Augment:
         jump[:, :, :-1] |= cols
         drop |= jump & (torch.rand(flat.shape, generator=generator) < 2 * rate)
         return torch.where(drop.to(depth.device), torch.full_like(flat, MISS), flat).reshape(shape)
+
+    def steep_removed(self, flat, generator=None):
+        """Per image, with chance `steep`: NaN-free copy of (N, H, W) normalised depth with the
+        pixels beside a steep jump (simulated_camera.edge_dropout, on the model's camera, at a
+        random angle in 70-85 degrees) set to misses; jumps to a miss do not count."""
+        near, far = self.view_camera.depth_range
+        scale = 255.0 / (far - near)
+        focal = self.view_camera.intrinsics().fx
+        n = len(flat)
+        chosen = torch.rand(n, 1, 1, generator=generator) < self.steep
+        angle = torch.deg2rad(70 + 15 * torch.rand(n, 1, 1, generator=generator))
+        d = flat.detach().cpu()
+        z = near * scale + d  # metric z-depth x scale, in the normalised depth's units
+        limit = torch.tan(angle) / focal * z
+        hit = d < MISS
+        drop = torch.zeros_like(hit)
+        rows = (d[:, 1:, :] - d[:, :-1, :]).abs().masked_fill(~(hit[:, 1:, :] & hit[:, :-1, :]), 0)
+        cols = (d[:, :, 1:] - d[:, :, :-1]).abs().masked_fill(~(hit[:, :, 1:] & hit[:, :, :-1]), 0)
+        drop[:, 1:, :] |= rows > limit[:, 1:, :]  # each pixel by its own depth, as the driver
+        drop[:, :-1, :] |= rows > limit[:, :-1, :]
+        drop[:, :, 1:] |= cols > limit[:, :, 1:]
+        drop[:, :, :-1] |= cols > limit[:, :, :-1]
+        drop &= chosen
+        return torch.where(drop.to(flat.device), torch.full_like(flat, MISS), flat)

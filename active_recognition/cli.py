@@ -180,6 +180,10 @@ def add_train(sub):
     p.add_argument("--dropout", type=own("dropout"),
                    help="augment: up to this fraction of each image's pixels, and as many of its "
                         "depth-edge pixels, missing (0)")
+    p.add_argument("--steep-dropout", dest="steep_dropout", type=own("steep_dropout"),
+                   help="augment: the chance that an image loses its pixels beside jumps steeper "
+                        "than a surface seen 70-85 degrees from face-on, as a depth camera's "
+                        "flying-pixel filter removes them (0)")
     p.add_argument("--min-elevation", dest="min_elevation", type=own("min_elevation"),
                    help="degrees: no training view from lower (-90: the whole sphere; 0: nothing "
                         "from below an object on a floor)")

@@ -94,6 +94,7 @@ class TrainConfig:
     frame_error: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: frame off by up to this
     floor_cut: float = option(0.0, lo=0, hi=0.5, hi_open=True)    # augment: bottom cut by up to this
     dropout: float = option(0.0, lo=0, hi=0.5, hi_open=True)      # augment: pixels missing, up to this
+    steep_dropout: float = option(0.0, lo=0, hi=1)  # augment: chance an image loses its steep pixels
     model: dict = option({}, schema=ModelConfig)  # ModelConfig overrides
 
     def __post_init__(self):
@@ -115,9 +116,10 @@ class TrainConfig:
         """The elevation band the training views keep to."""
         return ViewLimits(self.min_elevation, self.max_elevation)
 
-    def augment(self) -> Augment:
-        """The augmentation these options ask for."""
-        return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout)
+    def augment(self, camera=None) -> Augment:
+        """The augmentation these options ask for, on images of `camera` (a CameraConfig)."""
+        return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout,
+                       steep=self.steep_dropout, view_camera=camera)
 
 
 def preset_config(preset=None, flags=None, model=None) -> TrainConfig:
@@ -232,10 +234,10 @@ class Trainer:
         self.model = RecurrentAttention(self.mcfg).to(self.device)
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
         self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
-        self.augment = cfg.augment()
+        self.augment = cfg.augment(camera)
         self.limits = cfg.limits()
         self.starts = self.limits.initial_views(50)  # the paper's 50 initial views, in the band
-        self.corrupt = self.augment.images if self.augment.dropout > 0 else None
+        self.corrupt = self.augment.images if self.augment.changes_images else None
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
         self.rows, elapsed, self.opt_state, self.saved = [], 0.0, None, None
         if cfg.resume:

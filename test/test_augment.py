@@ -90,16 +90,49 @@ def test_dropout_only_turns_pixels_into_misses_at_the_rate_asked():
     assert torch.equal(Augment().images(depth), depth)
 
 
+def test_steep_dropout_drops_what_a_drivers_flying_pixel_filter_drops():
+    """Against simulated_camera.edge_dropout on the same image in metres: the augmentation's
+    angle is drawn in 70-85 degrees, so it drops at least what the filter drops at 85 and at
+    most what it drops at 70; jumps to the background do not count."""
+    from active_recognition.simulated_camera import edge_dropout
+    config = CameraConfig(64, 64, radius=1.5)
+    m = trimesh.creation.box(extents=(0.8, 0.5, 0.3))
+    m.vertices[:, 2] += 0.1 * m.vertices[:, 0]  # a tilt: a steep top as well as a jump
+    cam = DepthCamera(np.asarray(m.vertices), np.asarray(m.faces), config)
+    views = np.array([[1.3, 0.4], [0.6, 2.0], [1.55, -1.0], [2.2, 0.9]])
+    depth = torch.from_numpy(cam.render(views)).float()
+    near, far = config.depth_range
+    metres = np.where(depth.numpy() < MISS, near + depth.numpy() * (far - near) / 255.0, np.nan)
+    focal = config.intrinsics().fx
+    torch.manual_seed(0)
+    out = Augment(steep=1.0, view_camera=config).images(depth)
+    dropped = ((out == MISS) & (depth < MISS)).numpy()
+    for i in range(len(views)):
+        most = np.isnan(edge_dropout(metres[i], 70.0, focal)) & ~np.isnan(metres[i])
+        least = np.isnan(edge_dropout(metres[i], 85.0, focal)) & ~np.isnan(metres[i])
+        assert np.all(dropped[i][least]) and not np.any(dropped[i] & ~most)
+    assert dropped.any() and torch.all(out[out != depth] == MISS)
+    assert torch.equal(Augment(steep=0.0, view_camera=config).images(depth), depth)
+    kept = Augment(steep=0.5, view_camera=config).images(depth.repeat(50, 1, 1))  # a chance per image
+    lost = ((kept == MISS) & (depth.repeat(50, 1, 1) < MISS)).flatten(1).any(1).float()
+    assert 0.3 < lost.mean() / torch.as_tensor(dropped).flatten(1).any(1).float().mean() < 0.7
+
+
 def test_bad_augmentation_is_refused_by_name():
     with pytest.raises(ValueError, match="frame_error"):
         TrainConfig(frame_error=0.7)
     with pytest.raises(ValueError, match="dropout"):
         Augment(dropout=-0.1)
+    with pytest.raises(ValueError, match="steep"):
+        TrainConfig(steep_dropout=1.5)
+    with pytest.raises(ValueError, match="camera"):
+        Augment(steep=0.5)
 
 
 def test_training_with_every_augmentation_runs_and_learns_finite_weights(tmp_path):
     cfg = TrainConfig(**{**TINY, "out": str(tmp_path / "run"), "yaw": True, "frame_error": 0.15,
-                         "floor_cut": 0.03, "dropout": 0.3})
+                         "floor_cut": 0.03, "dropout": 0.3,
+                         "steep_dropout": 0.5})
     train(cfg, progress=False)
     w = weights(tmp_path / "run" / "final.pt")
     assert all(torch.isfinite(t).all() for t in w.values())

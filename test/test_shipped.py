@@ -27,28 +27,40 @@ from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
 from active_recognition.episode import Episode, EpisodeConfig, run
 from active_recognition.policies import make_planner
+from active_recognition.reach import ViewLimits, reach_of
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
+def trained_limits(dataset="procedural"):
+    """The views the dataset's shipped model was trained on (its run's elevation limits)."""
+    config = checkpoint.read(checkpoint.shipped(dataset)).get("config", {})
+    return ViewLimits(config.get("min_elevation", -90.0), config.get("max_elevation", 90.0))
+
+
 def episodes(n, seed, dataset="procedural"):
-    """n seeded test objects and initial views, seen through the dataset's shipped model's camera."""
+    """n seeded test objects and initial views (among the paper's 50, inside the views the
+    model was trained on), seen through the dataset's shipped model's camera."""
     config = checkpoint.load_model(checkpoint.shipped(dataset))[0].config
     test = Shapes(open_dataset(dataset, split="test", cache_dir=default_cache_dir()),
                   CameraConfig(config.image_size, config.image_size, radius=config.radius))
     rng = np.random.default_rng(seed)
     idx = np.sort(rng.permutation(len(test))[:n])
-    return test, idx, geometry.fibonacci_views(50)[rng.integers(0, 50, n)]
+    starts = trained_limits(dataset).initial_views(50)
+    return test, idx, starts[rng.integers(0, len(starts), n)]
 
 
-def final_probs(model, test, idx, views, steps, planner=None):
+def final_probs(model, test, idx, views, steps, planner=None, dataset="procedural"):
+    """Class probabilities after `steps` views, every view kept inside the trained limits."""
+    reach = reach_of(trained_limits(dataset))
     with torch.no_grad():
-        out = run(Episode(model, EpisodeConfig(steps), planner), test.cameras(idx), views, steps)
+        out = run(Episode(model, EpisodeConfig(steps), planner, reach=reach), test.cameras(idx),
+                  views, steps)
     return out[-1].probs
 
 
-def accuracy(model, test, idx, views, steps, planner=None):
-    probs = final_probs(model, test, idx, views, steps, planner)
+def accuracy(model, test, idx, views, steps, planner=None, dataset="procedural"):
+    probs = final_probs(model, test, idx, views, steps, planner, dataset)
     return (probs.argmax(1) == torch.as_tensor(test.labels[idx])).float().mean().item()
 
 
@@ -151,9 +163,9 @@ def test_shipped_twins_model_chooses_views_that_pay():
     assert ckpt["config"]["dataset"] == "twins" and len(classes) == 12
     assert ckpt["default_planner"] == "imitation" and model.config.view_input
     test, idx, views = episodes(120, seed=2024, dataset="twins")
-    own = final_probs(model, test, idx, views, 3, make_planner("imitation", model=model))
+    own = final_probs(model, test, idx, views, 3, make_planner("imitation", model=model), "twins")
     check_readme_accuracy("twins-acc3", own, test.labels[idx])
-    rand = accuracy(model, test, idx, views, 3, make_planner("random", seed=1))
+    rand = accuracy(model, test, idx, views, 3, make_planner("random", seed=1), "twins")
     own = (own.argmax(1) == torch.as_tensor(test.labels[idx])).float().mean().item()
     print(f"twins.pt after 3 views: imitation {own:.3f}, random {rand:.3f}")
     assert own >= rand + 0.08
