@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import checkpoint, geometry
+from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
