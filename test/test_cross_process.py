@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import import_ros
+from conftest import import_ros, stop_processes
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -64,10 +64,7 @@ def cameras():
     try:
         yield
     finally:
-        for p in procs:
-            p.terminate()
-        for p in procs:
-            p.wait(timeout=10)
+        stop_processes(procs)
 
 
 def episodes(ns, count, **params):

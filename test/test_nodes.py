@@ -22,7 +22,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import import_ros
+from conftest import import_ros, stop_processes
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -136,9 +136,7 @@ def test_nodes_in_separate_processes_close_the_loop():
         with ros_session() as (ctx, executor):
             close_the_loop(ctx, executor)
     finally:
-        for p in procs:
-            p.terminate()
-            p.wait(timeout=10)
+        stop_processes(procs)
 
 
 def close_the_loop(ctx, executor):
