@@ -194,7 +194,7 @@ def add_train(sub):
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
     p.add_argument("--hidden-size", dest="hidden_size", type=arg_of(ModelConfig, "hidden_size"),
                    help="RNN hidden size (256)")
-    p.add_argument("--encoder", choices=("compact", "alexnet"), help="Conv2D encoder")
+    p.add_argument("--encoder", choices=("compact", "wide", "alexnet"), help="Conv2D encoder")
     p.add_argument("--max-step", dest="max_step", type=arg_of(ModelConfig, "max_step"),
                    help="view increment bound, radians")
     p.add_argument("--radius", type=arg_of(ModelConfig, "radius"), help="viewing-sphere radius R")

@@ -31,14 +31,15 @@ from torch import nn
 from .geometry import unit_position
 from .validation import option, validate
 
-ENCODERS = ("compact", "alexnet")
-INPUT_SIZE = {"compact": 64, "alexnet": 227}
+ENCODERS = ("compact", "wide", "alexnet")
+INPUT_SIZE = {"compact": 64, "wide": 64, "alexnet": 227}
 
 
 @dataclass
 class ModelConfig:
     num_classes: int = option(10, lo=2, hi=100_000)
-    encoder: str = option("compact", choices=ENCODERS)  # compact (64x64, CPU) or alexnet (227x227)
+    # compact (64x64, CPU), wide (64x64, twice the channels, batch-normalised) or alexnet (227x227)
+    encoder: str = option("compact", choices=ENCODERS)
     feature_size: int = option(256, lo=1, hi=8192)      # e_t
     hidden_size: int = option(256, lo=1, hi=8192)       # h_t, the paper's best
     max_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True)  # |dtheta|, |dphi| bound, rad
@@ -74,6 +75,17 @@ def compact_encoder(feature_size):
         nn.Flatten(), nn.Linear(64 * 16, feature_size), nn.ReLU())
 
 
+def wide_encoder(feature_size):
+    """compact's layout with twice the channels, each convolution batch-normalised: ModelNet10's
+    real shapes underfit the compact encoder (its training accuracy stays at its validation's)."""
+    def block(cin, cout, k):
+        return [nn.Conv2d(cin, cout, k, stride=2, padding=k // 2, bias=False), nn.BatchNorm2d(cout),
+                nn.ReLU()]
+    return nn.Sequential(*block(1, 32, 5), *block(32, 64, 3), *block(64, 128, 3),  # (B, 128, 8, 8)
+                         *block(128, 128, 3), nn.Flatten(),                        # (B, 128, 4, 4)
+                         nn.Linear(128 * 16, feature_size), nn.ReLU())
+
+
 def alexnet_encoder(feature_size):
     return nn.Sequential(                                               # (B, 1, 227, 227)
         nn.Conv2d(1, 96, 11, stride=4), nn.ReLU(), nn.MaxPool2d(3, 2),  # (B, 96, 27, 27)
@@ -89,7 +101,7 @@ class RecurrentAttention(nn.Module):
     def __init__(self, config: ModelConfig):
         super().__init__()
         self.config = config
-        build = compact_encoder if config.encoder == "compact" else alexnet_encoder
+        build = {"compact": compact_encoder, "wide": wide_encoder, "alexnet": alexnet_encoder}[config.encoder]
         self.encoder = build(config.feature_size)
         inputs = config.feature_size + (3 if config.view_input else 0)
         self.cell = nn.RNNCell(inputs, config.hidden_size, nonlinearity="relu")

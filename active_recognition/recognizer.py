@@ -248,7 +248,7 @@ class ActiveRecognizer:
         two, and on a busy 2-core machine its OpenMP workers waited on numpy's and ROS's threads
         (a 0.4 ms step took 20-100 ms)."""
         before = torch.get_num_threads()
-        if self.model.config.encoder == "compact":
+        if self.model.config.encoder in ("compact", "wide"):
             torch.set_num_threads(1)
         try:
             yield

@@ -26,8 +26,8 @@ from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.validation import InputError
 
 
-@pytest.mark.parametrize("encoder,size", [("compact", 64), ("alexnet", 227)])
-def test_output_shapes_of_both_encoders(encoder, size):
+@pytest.mark.parametrize("encoder,size", [("compact", 64), ("wide", 64), ("alexnet", 227)])
+def test_output_shapes_of_every_encoder(encoder, size):
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(num_classes=7, encoder=encoder, hidden_size=32))
     depth = torch.rand(3, size, size) * 255
@@ -40,8 +40,28 @@ def test_output_shapes_of_both_encoders(encoder, size):
         model(torch.zeros(3, 32, 32), model.init_hidden(3))
 
 
+def test_the_wide_encoder_reads_one_image_alone_in_eval_mode():
+    """Batch-normalised: after training steps (running statistics moved), an image's logits in
+    eval mode do not depend on the other images of its batch, as a robot's batch of one needs."""
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=5, encoder="wide", hidden_size=16))
+    depth = torch.rand(6, 64, 64) * 255
+    opt = torch.optim.SGD(model.parameters(), lr=0.01)
+    for _ in range(3):
+        opt.zero_grad()
+        model.classify_image(depth).sum().backward()
+        opt.step()
+    bn = model.encoder[1]
+    assert not torch.allclose(bn.running_mean, torch.zeros_like(bn.running_mean))
+    model.eval()
+    with torch.no_grad():
+        together = model.classify_image(depth)
+        alone = torch.cat([model.classify_image(d[None]) for d in depth])
+    torch.testing.assert_close(together, alone, rtol=1e-4, atol=1e-5)
+
+
 def test_bad_model_configuration_is_refused():
-    with pytest.raises(InputError, match="encoder must be one of compact, alexnet, got 'resnet'"):
+    with pytest.raises(InputError, match="encoder must be one of compact, wide, alexnet, got 'resnet'"):
         ModelConfig(encoder="resnet")
     with pytest.raises(InputError, match=r"max_step must be .* got -1"):
         ModelConfig(max_step=-1)
