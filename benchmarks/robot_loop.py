@@ -61,6 +61,7 @@ def run_camera(name, objects, seed, timeout):
 
     from active_recognition.datasets import default_cache_dir, open_dataset
     from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
+    from active_recognition.checkpoint import SHIPPED  # these objects are procedural
     from active_recognition.nodes.recognizer import Recognizer
 
     test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
@@ -68,7 +69,8 @@ def run_camera(name, objects, seed, timeout):
     try:
         with ros_session() as (ctx, executor):
             recognizer = Recognizer(context=ctx, namespace=name,
-                                    parameter_overrides=[Parameter("seed", value=seed)])
+                                    parameter_overrides=[Parameter("seed", value=seed),
+                                                         Parameter("checkpoint", value=str(SHIPPED))])
             client = DemoClient(context=ctx, namespace=name)
             camera = AsyncParameterClient(client, f"/{name}/simulated_camera")
             for node in (recognizer, client):

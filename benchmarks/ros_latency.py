@@ -36,6 +36,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
+from active_recognition.checkpoint import SHIPPED
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
@@ -46,6 +47,8 @@ from active_recognition.simulated_camera import sensor_config
 VGA = {"width": 640, "height": 480, "fx": 385.0, "fy": 385.0}
 HD = {"width": 1280, "height": 720, "fx": 640.0, "fy": 640.0}
 RELIABLE = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE)
+# the recognizer's default is the ModelNet10 model; these loops show procedural objects
+PROCEDURAL = Parameter("checkpoint", value=str(SHIPPED))
 
 
 def rss_mb():
@@ -61,7 +64,7 @@ def closed_loop(episodes, camera=None):
             Parameter(f.name, value=getattr(sensor_config("realsense", **camera), f.name))
             for f in fields(sensor_config())]
         cam = SimulatedCameraNode(context=ctx, parameter_overrides=sensor)
-        rec = Recognizer(context=ctx, parameter_overrides=[Parameter("entropy_threshold", value=0.0)])
+        rec = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL, Parameter("entropy_threshold", value=0.0)])
         client = DemoClient(context=ctx)
         for n in (cam, rec, client):
             ex.add_node(n)
@@ -81,7 +84,7 @@ def closed_loop(episodes, camera=None):
 
 def stream(seconds, hz):
     with ros_session() as (ctx, ex):
-        rec = Recognizer(context=ctx)
+        rec = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL])
         client = DemoClient(context=ctx)
         sensor = Node("stream", context=ctx)
         pub = sensor.create_publisher(Image, "depth/image", qos_profile_sensor_data)
@@ -158,7 +161,7 @@ def vga_stream(seconds, hz):
         [sys.executable, __file__, "--publish", str(seconds), "--hz", str(hz)],
         stdout=subprocess.PIPE, text=True, env=os.environ.copy())
     with ros_session() as (ctx, ex):
-        rec = Recognizer(context=ctx)
+        rec = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL])
         client = DemoClient(context=ctx)
         for n in (rec, client):
             ex.add_node(n)

@@ -33,9 +33,13 @@ from std_srvs.srv import Trigger  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
+from active_recognition.checkpoint import SHIPPED  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import PARAMS, Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
+
+# the recognizer's default is the ModelNet10 model; these loops show procedural objects
+PROCEDURAL = Parameter("checkpoint", value=str(SHIPPED))
 
 
 def info(width, height, fx, fy, cx, cy, **k):
@@ -60,7 +64,7 @@ def node():
     with ros_session() as (ctx, executor):
         camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("index", value=3)])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("seed", value=7), Parameter("view_timeout", value=0.5)])
+            PROCEDURAL, Parameter("seed", value=7), Parameter("view_timeout", value=0.5)])
         client = DemoClient(context=ctx)
         bad = Node("bad_inputs", context=ctx)
         for n in (camera, recognizer, client, bad):
@@ -149,7 +153,7 @@ def test_no_exception_escapes_a_callback(node):
 def test_a_silent_camera_ends_the_episode_with_no_image():
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("view_timeout", value=0.2), Parameter("max_retries", value=1)])
+            PROCEDURAL, Parameter("view_timeout", value=0.2), Parameter("max_retries", value=1)])
         client, views = DemoClient(context=ctx), []
         client.create_subscription(PoseStamped, "next_view", views.append, 10)
         for n in (recognizer, client):

@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 import pytest
+import torch
 
 from conftest import import_ros, stop_processes
 
@@ -34,6 +35,7 @@ from std_msgs.msg import String  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
+from active_recognition.checkpoint import SHIPPED  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
@@ -42,12 +44,15 @@ from active_recognition.reach import ViewLimits  # noqa: E402
 from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
 from active_recognition.simulated_camera import SimulatedCamera  # noqa: E402
 
+# the recognizer's default is the ModelNet10 model; these loops show procedural objects
+PROCEDURAL = Parameter("checkpoint", value=str(SHIPPED))
+
 
 @pytest.fixture
 def loop():
     with ros_session() as (ctx, executor):
         camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("index", value=3)])
-        recognizer = Recognizer(context=ctx, parameter_overrides=[Parameter("seed", value=7)])
+        recognizer = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL, Parameter("seed", value=7)])
         client = DemoClient(context=ctx)
         for n in (camera, recognizer, client):
             executor.add_node(n)
@@ -167,6 +172,21 @@ def test_executor_never_queues_a_callback_twice(loop):
     assert submitted and len({id(t) for t in submitted}) == len(submitted)
 
 
+def test_the_recognizer_loads_the_shipped_modelnet10_model_unless_told_otherwise():
+    """A robot sees real objects: an empty `checkpoint` is modelnet10.pt, weights and planner."""
+    from active_recognition import checkpoint
+    from active_recognition.recognizer import choose_planner
+    model, classes, ckpt = checkpoint.load_model(checkpoint.shipped("modelnet"))
+    with ros_session() as (ctx, executor):
+        default = Recognizer(context=ctx)
+        procedural = Recognizer(context=ctx, namespace="p", parameter_overrides=[PROCEDURAL])
+        for node, expected in ((default, model), (procedural, checkpoint.load_model()[0])):
+            got = node.core.model.state_dict()
+            assert all(torch.equal(got[k], v) for k, v in expected.state_dict().items())
+        assert default.core.classes == classes
+        assert default.core.planner == choose_planner("auto", model, ckpt)  # its `auto`
+
+
 def test_demo_on_twins_uses_the_shipped_twins_model_and_its_best_planner():
     from active_recognition.nodes.demo import run_demo
     lines = []
@@ -213,7 +233,7 @@ class FakeCamera(Node):
 
 def test_an_empty_scene_ends_with_no_object_after_max_empty_views():
     with ros_session() as (ctx, executor):
-        recognizer = Recognizer(context=ctx, parameter_overrides=[Parameter("max_empty_views", value=3)])
+        recognizer = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL, Parameter("max_empty_views", value=3)])
         camera = FakeCamera(ctx, lambda pose: np.full((48, 64), np.nan, np.float32))
         client = DemoClient(context=ctx)
         for n in (recognizer, camera, client):
@@ -238,7 +258,7 @@ def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
 
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("pose_tolerance", value=0.2), Parameter("max_views", value=2),
+            PROCEDURAL, Parameter("pose_tolerance", value=0.2), Parameter("max_views", value=2),
             Parameter("recentre", value=0.0)])  # the view about the frame's own centre
         camera = FakeCamera(ctx, lambda req: sim.capture(*where(req))[0],
                             pose=lambda req: ma.position_to_pose(*where(req)),
@@ -281,7 +301,7 @@ def test_a_stream_without_poses_faster_than_the_pose_tolerance_is_still_processe
     sim.load(dataset="procedural", split="test", index=5)
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, parameter_overrides=[
-            Parameter("pose_tolerance", value=0.05), Parameter("max_views", value=3)])
+            PROCEDURAL, Parameter("pose_tolerance", value=0.05), Parameter("max_views", value=3)])
         camera = StreamingCamera(ctx, lambda req: sim.capture(*ma.pose_to_camera(req))[0])
         client = DemoClient(context=ctx)
         for n in (recognizer, camera, client):

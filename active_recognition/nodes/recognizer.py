@@ -38,6 +38,7 @@ from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
 from active_recognition import plausible
+from active_recognition.checkpoint import shipped
 from active_recognition.episode import EpisodeConfig
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
@@ -50,7 +51,7 @@ from active_recognition.validation import Check, InputError, SEED_MAX, checks
 STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
 INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
 PARAMS = {  # name: (default, type, description)
-    "checkpoint": ("", STR, "model file; empty = the shipped model"),
+    "checkpoint": ("", STR, "model file; empty = the shipped ModelNet10 model (real furniture)"),
     "planner": ("auto", STR, "next-view planner: auto (the checkpoint's best), learned, random, "
                              "straight, reinforce, fixed or imitation"),
     "entropy_threshold": (0.1, DBL, "stop below this entropy (nats)"),
@@ -111,7 +112,7 @@ class Recognizer(Node):
         for name in TIMING:
             setattr(self, name, p[name])
         self.sensing = SensingConfig(**{k: p[k] for k in SENSING})
-        self.core = ActiveRecognizer(p["checkpoint"] or None,
+        self.core = ActiveRecognizer(p["checkpoint"] or str(shipped("modelnet")),
                                      EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"],
                                      p["planner"], self.sensing,
                                      ViewLimits(p["min_elevation"], p["max_elevation"]))

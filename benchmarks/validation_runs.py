@@ -1,0 +1,68 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Candidate models compared on a dataset's validation split (a seeded tenth of each class of its
+training split), as a model or a setting is chosen: each model's own classifier, with its own
+view heads and the fixed motions, after 3 / 6 / 9 views on the same objects and initial views.
+Adds one run per model to the validation JSON (default docs/results/modelnet10/validation.json
+for modelnet), keeping the runs already there. Last line is JSON."""
+import argparse
+import json
+import tempfile
+from pathlib import Path
+
+from common import emit
+
+from active_recognition.evaluate import EvalConfig, evaluate, summary
+from active_recognition.report import write_json
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("models", nargs="+", metavar="NAME=FILE", help="a run's name and its model file")
+    ap.add_argument("--dataset", default="modelnet")
+    ap.add_argument("--root", default=None, help="dataset root folder (modelnet)")
+    ap.add_argument("--objects", type=int, default=352, help="validation objects (seeded draw)")
+    ap.add_argument("--starts", type=int, default=2, help="initial views per object")
+    ap.add_argument("--planners", default="learned,random,straight,imitation")
+    ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
+                                                "docs/results/<folder>/validation.json)")
+    args = ap.parse_args()
+    out = Path(args.out or ROOT / "docs/results" / ("modelnet10" if args.dataset == "modelnet"
+                                                     else args.dataset) / "validation.json")
+    record = json.loads(out.read_text()) if out.is_file() else {}
+    if record and (record.get("objects"), record.get("starts")) != (args.objects, args.starts):
+        ap.error(f"{out} holds runs on {record.get('objects')} objects x {record.get('starts')} "
+                 f"starts: compare on the same (--objects, --starts)")
+    record.update(split="val", objects=args.objects, starts=args.starts)
+    runs = record.setdefault("runs", {})
+    for item in args.models:
+        name, sep, path = item.partition("=")
+        if not sep:
+            ap.error(f"{item!r}: expected NAME=FILE")
+        with tempfile.TemporaryDirectory() as tmp:
+            s = summary(evaluate(EvalConfig(
+                checkpoint=path, planners=tuple(args.planners.split(",")), dataset=args.dataset,
+                root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
+                shared=False, trajectory_figures=0)))
+        runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"]}
+        print(name, {k: v["3"] for k, v in s["acc"].items()})
+    write_json(out, record)
+    emit({"runs": {k: v["acc"] for k, v in runs.items()}})
+
+
+if __name__ == "__main__":
+    main()
