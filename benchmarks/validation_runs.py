@@ -41,8 +41,8 @@ def main():
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
-    out = Path(args.out or ROOT / "docs/results" / ("modelnet10" if args.dataset == "modelnet"
-                                                     else args.dataset) / "validation.json")
+    folder = "modelnet10" if args.dataset == "modelnet" else args.dataset
+    out = Path(args.out or ROOT / "docs/results" / folder / "validation.json")
     record = json.loads(out.read_text()) if out.is_file() else {}
     if record and (record.get("objects"), record.get("starts")) != (args.objects, args.starts):
         ap.error(f"{out} holds runs on {record.get('objects')} objects x {record.get('starts')} "
