@@ -30,9 +30,10 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
+from common import results_dir
 from tqdm import tqdm
 
-from active_recognition.checkpoint import SHIPPED
+from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
 from active_recognition.reach import ViewLimits
@@ -40,10 +41,8 @@ from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.report import write_json
 from active_recognition.simulated_camera import SimulatedCamera, sensor_config
 
-ROOT = Path(__file__).resolve().parents[1]
 # the recognizer node's default: nothing from below the object's support (an opaque floor)
 LIMITS = ViewLimits(0.0, 90.0)
-SHIPPED_MODEL = {"procedural": SHIPPED, "modelnet": SHIPPED.with_name("modelnet10.pt")}
 # name: (camera preset and changes, the recognizer's object_size belief, centre offset x size)
 ROWS = {
     "clean": ({}, 1.0, 0.0),
@@ -136,10 +135,9 @@ def main(argv=None):
     if unknown:
         ap.error(f"unknown rows {unknown}; choose from {rows_here}")
     if args.out is None:
-        args.out = str(ROOT / "docs/results" / ("modelnet10/" if args.dataset == "modelnet" else "")
-                       / "camera_robustness.json")
+        args.out = str(results_dir(args.dataset) / "camera_robustness.json")
     if args.checkpoint is None and args.dataset != "procedural":
-        args.checkpoint = str(SHIPPED_MODEL[args.dataset])
+        args.checkpoint = str(shipped(args.dataset))
     n_test = len(open_dataset(args.dataset, args.root, "test", cache_dir=default_cache_dir()))
     if not 1 <= args.objects <= n_test:
         ap.error(f"--objects must be 1..{n_test}")
@@ -159,7 +157,7 @@ def main(argv=None):
     result = {"clean": rows.get("clean", {}).get("acc_3"),
               "realsense": rows.get("realsense", {}).get("acc_3"), "rows": rows,
               "objects": len(objects), "dataset": args.dataset,
-              "checkpoint": str(args.checkpoint or SHIPPED_MODEL[args.dataset])}
+              "checkpoint": str(args.checkpoint or shipped(args.dataset))}
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)
         write_json(Path(args.out), result)

@@ -12,11 +12,21 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Helpers shared by the benchmarks: medians of repeated timings, and the last-line JSON."""
+"""Helpers shared by the benchmarks: medians of repeated timings, the last-line JSON, and where
+each dataset's results go."""
 import json
 import time
+from pathlib import Path
 
 import numpy as np
+
+RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
+FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results
+
+
+def results_dir(dataset):
+    """The folder of a dataset's committed results (procedural's are docs/results itself)."""
+    return RESULTS / FOLDER[dataset]
 
 
 def median_ms(fn, repeat=30, warmup=3):

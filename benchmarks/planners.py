@@ -26,7 +26,7 @@ import argparse
 from dataclasses import replace
 from pathlib import Path
 
-from common import emit
+from common import RESULTS, emit, results_dir
 from results_page import write_results_page
 
 from active_recognition import checkpoint
@@ -48,7 +48,6 @@ CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedur
                             "imitation": "modelnet10.pt"}}
 # the planner the recognizer and the demo use with each shipped model (its best non-privileged)
 DEFAULT_CHECKPOINT = {"procedural": "procedural.pt", "twins": "twins.pt", "modelnet": "modelnet10.pt"}
-FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results
 
 
 def ship(path, s):
@@ -97,15 +96,14 @@ def main():
                     help="write the measured best planner (and the fixed path) into the "
                          "dataset's shipped model, for the recognizer's planner 'auto'")
     args = ap.parse_args()
-    results_dir = ROOT / "docs/results"
     if args.ship and args.split != "test":
         ap.error("--ship records the default planner for the test split's models; leave out --split")
     if (args.dataset == "modelnet") != bool(args.root):
         ap.error("--root goes with --dataset modelnet, and modelnet needs it (README: ModelNet10)")
     if args.split == "cross" and args.dataset == "modelnet":
         ap.error("the cross split is a generated benchmark's; ModelNet10 has test")
-    runs = results_dir / FOLDER[args.dataset]
-    cross = results_dir / f"{args.dataset}-cross"  # the held-out styles
+    runs = results_dir(args.dataset)
+    cross = RESULTS / f"{args.dataset}-cross"  # the held-out styles
     out = Path(args.out) if args.out else cross if args.split == "cross" else runs
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
@@ -139,7 +137,7 @@ def main():
     write_json(out / "summary.json", s)
     if args.ship:
         ship(MODELS / DEFAULT_CHECKPOINT[args.dataset], s)
-    write_results_page(ROOT / "docs/RESULTS.md", ROOT / "docs/results")
+    write_results_page(ROOT / "docs/RESULTS.md", RESULTS)
     for name in s["acc"]:
         print(f"{name:>10}: 3 views {100 * s['acc'][name]['3']:.1f} +- {100 * s['stderr_3'][name]:.1f}"
               f", shared classifier {100 * s['acc_shared'][name]['3']:.1f} +- "

@@ -16,18 +16,16 @@
 training split), as a model or a setting is chosen: each model's own classifier, with its own
 view heads and the fixed motions, after 3 / 6 / 9 views on the same objects and initial views.
 Adds one run per model to the validation JSON (default docs/results/modelnet10/validation.json
-for modelnet), keeping the runs already there. Last line is JSON."""
+for modelnet, docs/results/validation.json for procedural), keeping the runs already there. Last line is JSON."""
 import argparse
 import json
 import tempfile
 from pathlib import Path
 
-from common import emit
+from common import emit, results_dir
 
 from active_recognition.evaluate import EvalConfig, evaluate, summary
 from active_recognition.report import write_json
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def main():
@@ -41,8 +39,7 @@ def main():
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
-    folder = "modelnet10" if args.dataset == "modelnet" else args.dataset
-    out = Path(args.out or ROOT / "docs/results" / folder / "validation.json")
+    out = Path(args.out or results_dir(args.dataset) / "validation.json")
     record = json.loads(out.read_text()) if out.is_file() else {}
     if record and (record.get("objects"), record.get("starts")) != (args.objects, args.starts):
         ap.error(f"{out} holds runs on {record.get('objects')} objects x {record.get('starts')} "

@@ -13,6 +13,7 @@
 # limitations under the License.
 
 """The shipped checkpoint: loads from the package alone and scores what the README says."""
+import functools
 import math
 import re
 from pathlib import Path
@@ -32,6 +33,7 @@ from active_recognition.reach import ViewLimits, reach_of
 README = Path(__file__).resolve().parents[1] / "README.md"
 
 
+@functools.lru_cache
 def trained_limits(dataset="procedural"):
     """The views the dataset's shipped model was trained on (its run's elevation limits)."""
     config = checkpoint.read(checkpoint.shipped(dataset)).get("config", {})
