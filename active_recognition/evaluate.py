@@ -248,7 +248,7 @@ def summary(results):
     first = next(iter(results.values()))
     if first.classes is not None:  # every writer of a summary names the classes its tables use
         s["classes"] = first.classes
-    three = next(iter(results.values())).probs.shape[1] >= 3  # episodes of 3 views or more
+    three = first.probs.shape[1] >= 3  # episodes of 3 views or more
     if three:
         s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
     if three:  # accuracy per class after 3 views, in the order of the classes

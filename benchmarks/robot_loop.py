@@ -62,6 +62,7 @@ def run_camera(name, objects, seed, timeout):
     from active_recognition.datasets import default_cache_dir, open_dataset
     from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
     from active_recognition.checkpoint import SHIPPED  # these objects are procedural
+    from active_recognition.nodes import stop_processes
     from active_recognition.nodes.recognizer import Recognizer
 
     test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
@@ -90,12 +91,7 @@ def run_camera(name, objects, seed, timeout):
                 answers.append(results[-1]["label"] == test.classes[test.items[i][1]])
             return answers, results, seconds
     finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:  # a node that ignores SIGTERM while shutting down
-            proc.kill()
-            proc.wait()
+        stop_processes([proc])
 
 
 def main(argv=None):

@@ -61,20 +61,3 @@ def load_benchmark(name):
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
     return importlib.import_module(name)
-
-
-def stop_processes(procs, grace=10.0):
-    """SIGTERM each node process, wait up to `grace` seconds, then SIGKILL what is left. Once in
-    many CI runs a camera process has outlived SIGTERM by 10 s inside FastDDS's teardown (what the
-    test measured was done by then): it is killed and reported, not left to fail the teardown."""
-    import subprocess
-    import warnings
-    for p in procs:
-        p.terminate()
-    for p in procs:
-        try:
-            p.wait(timeout=grace)
-        except subprocess.TimeoutExpired:
-            warnings.warn(f"{p.args[:3]} outlived SIGTERM by {grace:g} s: killed")
-            p.kill()
-            p.wait(timeout=grace)

@@ -23,13 +23,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import import_ros, stop_processes
+from conftest import import_ros
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
 from active_recognition.checkpoint import SHIPPED  # noqa: E402
+from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 

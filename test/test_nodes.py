@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 import torch
 
-from conftest import import_ros, stop_processes
+from conftest import import_ros
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -37,6 +37,7 @@ import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
 from active_recognition.checkpoint import SHIPPED  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
+from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
