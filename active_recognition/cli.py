@@ -98,7 +98,7 @@ def cmd_train(args):
 
     flags = {f.name: getattr(args, f.name, None) for f in dataclasses.fields(TrainConfig)}
     model = {k: getattr(args, k) for k in ("hidden_size", "encoder", "max_step", "radius",
-                                           "view_input", "candidates", "memory")}
+                                           "view_input", "candidates", "memory", "readout")}
     cfg = preset_config(args.config, flags, model)
     train(cfg)
     print(f"checkpoints in {cfg.out}: {', '.join(written_checkpoints(cfg.out))}")
@@ -203,6 +203,9 @@ def add_train(sub):
     p.add_argument("--memory", choices=("rnn", "rnn+max"),
                    help="the state the heads read: the RNN's (the paper), or beside it the running "
                         "maximum of the image features seen (rnn+max)")
+    p.add_argument("--readout", choices=("last", "mean"),
+                   help="the answer after t views: FC_class on the last state (last, the paper), "
+                        "or the mean of every step's class probabilities (mean)")
     p.add_argument("--candidates", type=arg_of(ModelConfig, "candidates"),
                    help="size of FC_view, the head scoring candidate views (imitation; 0 = none)")
     p.set_defaults(func=cmd_train)
@@ -255,7 +258,7 @@ def cmd_evaluate(args):
                      starts=args.starts, steps=args.steps,
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
                      shared=not args.no_shared, min_elevation=args.min_elevation,
-                     max_elevation=args.max_elevation)
+                     max_elevation=args.max_elevation, readout=args.readout)
     s = summary(evaluate(cfg, runs=runs))
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
@@ -297,6 +300,9 @@ def add_evaluate(sub):
                         "(-90: the whole sphere, the paper's)")
     p.add_argument("--max-elevation", type=own("max_elevation"), default=90.0,
                    help="degrees: views from no higher")
+    p.add_argument("--readout", choices=("last", "mean"), default=None,
+                   help="the answer after t views: the last step's (last) or the mean of every "
+                        "step's class probabilities (mean); default each model's own")
     p.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
     p.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
     p.set_defaults(func=cmd_evaluate)

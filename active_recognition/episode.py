@@ -76,6 +76,7 @@ class Episode:
             self.view = self.reach.limits.clamp(self.view)
         self.hidden = self.model.init_hidden(len(self.view), device)
         self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
+        self.probs_sum = 0.0  # of every step's own class probabilities (readout mean)
         self.requested = []  # views asked for but taken elsewhere (a robot's arm): (B, 2) each
         self.log_probs = []  # log N(increment; FC_loc, std^2) per step, when exploring
         self.done = torch.zeros(len(self.view), dtype=torch.bool, device=device)
@@ -102,7 +103,7 @@ class Episode:
         depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
         depth = depth.reshape(len(self.view), *depth.shape[-2:])
         logits, delta, self.hidden = self.model(depth, self.hidden, self.view)
-        probs = logits.softmax(-1)
+        probs = self.answer(logits.softmax(-1))
         h = entropy(probs)
         prev = self.entropies[-1] if self.entropies else torch.full_like(h, math.log(probs.shape[-1]))
         self.info_gain.append((prev - h).detach())
@@ -135,6 +136,14 @@ class Episode:
         self.view = step.next_view
         self.views.append(self.view)
         return step
+
+    def answer(self, probs):
+        """The class probabilities the episode answers, from this step's own (the model's
+        readout: these, or the mean of every step's so far)."""
+        if getattr(self.model.config, "readout", "last") == "last":
+            return probs
+        self.probs_sum = self.probs_sum + probs
+        return self.probs_sum / (self.steps + 1)
 
     def visited(self):
         """(steps, 2) numpy views taken so far by a single object (B = 1); empty otherwise."""

@@ -66,6 +66,8 @@ class EvalConfig:
     # the paper's 50 that lie in the band, and every planner keeps to it; default the whole sphere
     min_elevation: float = option(-90.0, lo=-90, hi=90)
     max_elevation: float = option(90.0, lo=-90, hi=90)
+    # the answer after t views (ModelConfig.readout: last or mean); None: each model's own
+    readout: str | None = option(None, kind=str, optional=True, choices=("last", "mean"))
 
     def __post_init__(self):
         validate(self)
@@ -189,6 +191,8 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed,
                                       len(cfg.limits().initial_views(50)))
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
+    for m in (model, *models.values()) if cfg.readout else ():
+        m.config.readout = cfg.readout
     if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
         make_planner("imitation", model=models.get("imitation") or model)
     net = fixed = None

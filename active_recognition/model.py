@@ -50,6 +50,11 @@ class ModelConfig:
     # of the image features seen so far (max: a view's evidence is never forgotten, as in MVCNN's
     # view pooling, so more views cannot hide what one view showed)
     memory: str = option("rnn", choices=("rnn", "rnn+max"))
+    # the answer after t views: FC_class on the last state (last, the paper), or the mean of the
+    # class probabilities of every step so far (mean: each view's answer counts, so a late view
+    # that misleads cannot overturn what the earlier ones agreed on). Training reads each step's
+    # own logits either way; the readout is what an episode answers and stops on
+    readout: str = option("last", choices=("last", "mean"))
 
     def __post_init__(self):
         validate(self)

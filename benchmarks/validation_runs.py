@@ -36,6 +36,8 @@ def main():
     ap.add_argument("--objects", type=int, default=352, help="validation objects (seeded draw)")
     ap.add_argument("--starts", type=int, default=2, help="initial views per object")
     ap.add_argument("--planners", default="learned,random,straight,imitation")
+    ap.add_argument("--readout", choices=("last", "mean"), default=None,
+                    help="every model's answer after t views (default: each model's own)")
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
@@ -54,7 +56,7 @@ def main():
             s = summary(evaluate(EvalConfig(
                 checkpoint=path, planners=tuple(args.planners.split(",")), dataset=args.dataset,
                 root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
-                shared=False, trajectory_figures=0)))
+                shared=False, trajectory_figures=0, readout=args.readout)))
         runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"]}
         print(name, {k: v["3"] for k, v in s["acc"].items()})
     write_json(out, record)

@@ -15,6 +15,7 @@
 import csv
 import json
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -204,6 +205,19 @@ def test_compare_runs_repeats_the_evaluation_on_the_same_episodes(results):
     for planner in ("learned", "random", "straight"):
         np.testing.assert_allclose(table["m"][planner], res[planner].accuracy(), atol=1e-4)
     assert table["m again"] == table["m"]
+
+
+def test_readout_mean_answers_the_running_mean_of_the_same_episodes_last_answers(results):
+    """evaluate(readout=mean) over the same objects, starts and (random, straight) views: after
+    t views each answer is the mean of readout last's first t answers."""
+    res, cfg, tmp = results
+    mean = evaluate(replace(cfg, planners=("random", "straight"), readout="mean",
+                            out=str(tmp / "mean"), trajectory_figures=0), progress=False)
+    for planner in ("random", "straight"):
+        last = res[planner]
+        np.testing.assert_allclose(mean[planner].views, last.views, atol=1e-6)
+        running = np.cumsum(last.probs, 1) / np.arange(1, cfg.steps + 1)[None, :, None]
+        np.testing.assert_allclose(mean[planner].probs, running, atol=1e-5)
 
 
 def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):

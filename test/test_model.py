@@ -23,6 +23,7 @@ from active_recognition.depth_layer import CameraConfig, DepthCamera, render_vie
 from active_recognition.episode import Episode, EpisodeConfig, entropy, run
 from active_recognition.losses import JointLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.policies import FixedPlanner
 from active_recognition.validation import InputError
 
 
@@ -96,6 +97,72 @@ def test_episode_stops_on_the_step_limit_and_records_everything():
     assert math.isclose(total, math.log(4) - entropy(ep.probs[-1]).item(), rel_tol=1e-5)
     for v in ep.views[1:]:  # next views stay valid
         assert 0 <= v[0, 0] <= math.pi and -math.pi <= v[0, 1] < math.pi
+
+
+def test_the_mean_readout_answers_the_mean_of_every_steps_own_probabilities():
+    """readout mean: after t views the episode answers, and stops on, the mean of the t steps'
+    own softmax; readout last (the paper) answers the last step's. An independent run of the
+    model's forward gives each step's own."""
+    torch.manual_seed(0)
+    images = [torch.rand(2, 64, 64) * 255 for _ in range(4)]
+    view = torch.tensor([[1.0, 0.5], [2.0, -1.0]])
+    model = RecurrentAttention(ModelConfig(num_classes=5, hidden_size=16, memory="rnn+max")).eval()
+    own, state = [], model.init_hidden(2)
+    with torch.no_grad():
+        for image in images:  # the same views every step: no planner in play
+            logits, _, state = model(image, state, view)
+            own.append(logits.softmax(-1))
+    answers = {}
+    for readout in ("last", "mean"):
+        model.config.readout = readout
+        ep = Episode(model, EpisodeConfig(max_views=4, entropy_threshold=0.0), FixedPlanner(view[:1].numpy()))
+        ep.reset(view)
+        with torch.no_grad():
+            answers[readout] = [ep.step(image) for image in images]
+    for t, step in enumerate(answers["last"]):
+        torch.testing.assert_close(step.probs, own[t])
+    for t, step in enumerate(answers["mean"]):
+        torch.testing.assert_close(step.probs, torch.stack(own[:t + 1]).mean(0))
+        torch.testing.assert_close(step.entropy, entropy(step.probs))
+        torch.testing.assert_close(step.logits.softmax(-1), own[t])  # training reads these
+    assert not torch.allclose(answers["mean"][-1].probs, own[-1])
+    with pytest.raises(InputError, match="readout must be one of last, mean"):
+        ModelConfig(readout="vote")
+
+
+class Scripted(torch.nn.Module):
+    """A model that answers a given list of logits, one per step."""
+
+    def __init__(self, logits, readout):
+        super().__init__()
+        self.config, self.logits = ModelConfig(num_classes=3, readout=readout), list(logits)
+        self.anchor = torch.nn.Parameter(torch.zeros(1))
+
+    def init_hidden(self, batch, device=None):
+        return torch.zeros(batch, 1)
+
+    def forward(self, depth, hidden, view=None):
+        return self.logits.pop(0)[None], torch.zeros(1, 2), hidden
+
+
+def test_the_mean_readout_stops_on_its_own_entropy():
+    """Fairly sure of class 0 (not enough to stop), then sure of class 1: the last step alone
+    is sure (it stops, answering 1), the mean of the two is not (it goes on, split between 0
+    and 1)."""
+    sure = [torch.tensor([4.0, 0.0, 0.0]), torch.tensor([0.0, 20.0, 0.0])]
+    stops = {}
+    for readout in ("last", "mean"):
+        ep = Episode(Scripted(sure, readout), EpisodeConfig(max_views=5, entropy_threshold=0.1),
+                     FixedPlanner([[1.0, 1.0]] * 4))
+        ep.reset([1.0, 0.5])
+        with torch.no_grad():
+            ep.step(torch.zeros(64, 64))
+            stops[readout] = ep.step(torch.zeros(64, 64))
+    assert bool(stops["last"].done) and stops["last"].probs.argmax().item() == 1
+    assert not bool(stops["mean"].done)
+    mean = (sure[0].softmax(-1) + sure[1].softmax(-1)) / 2
+    assert math.isclose(stops["mean"].entropy.item(), entropy(mean).item(), rel_tol=1e-5)
+    assert stops["mean"].entropy.item() > 0.6
 
 
 def tiny_batch():
