@@ -15,8 +15,9 @@
 """Training augmentation for what a robot's object frame and depth camera get wrong.
 
 Meshes (a new one per training episode):
-- `yaw`: the object turned by a random yaw about z, its box re-fitted (a detector's axis-aligned
-  box in a frame of unknown heading);
+- `yaw`: the object turned by a random yaw about z (uniform within +-`yaw_range` degrees: the
+  whole turn by default), its box re-fitted (a detector's axis-aligned box in a frame of unknown
+  or roughly known heading);
 - `frame_error`: the box's centre off by up to that fraction of the object's size, in a random
   direction, and its size wrong by up to that fraction (as camera_robustness applies them);
   then cropped to the box plus `box_margin`, as the recognizer's reprojection crops;
@@ -46,6 +47,7 @@ class Augment:
     frame_error: float = 0.0
     floor_cut: float = 0.0
     dropout: float = 0.0
+    yaw_range: float = 180.0    # degrees (for `yaw`)
     box_margin: float = 0.1
     steep: float = 0.0
     view_camera: object = None  # depth_layer.CameraConfig of the images (for `steep`)
@@ -57,6 +59,8 @@ class Augment:
                 raise ValueError(f"augmentation {name} must lie in [0, 0.5), got {value}")
         if not 0 <= self.steep <= 1:
             raise ValueError(f"augmentation steep is a chance in [0, 1], got {self.steep}")
+        if not 0 < self.yaw_range <= 180:
+            raise ValueError(f"augmentation yaw_range is in degrees, (0, 180], got {self.yaw_range}")
         if self.steep > 0 and self.view_camera is None:
             raise ValueError("augmentation steep needs the images' camera")
 
@@ -73,7 +77,7 @@ class Augment:
         size), and the lower corner of the crop box (its bottom raised by the floor cut)."""
         v = np.asarray(vertices, dtype=np.float64)
         if self.yaw:
-            v = yawed(v, rng.uniform(0, 2 * np.pi))
+            v = yawed(v, rng.uniform(-1, 1) * np.radians(self.yaw_range))
         if self.frame_error > 0:
             d = rng.standard_normal(3)
             off = rng.uniform(0, self.frame_error) * d / np.linalg.norm(d)

@@ -169,6 +169,8 @@ def add_train(sub):
                    help="write last.pt every N batches")
     p.add_argument("--max-shapes", dest="max_shapes", type=own("max_shapes"),
                    help="train on a seeded subset")
+    p.add_argument("--yaw-range", dest="yaw_range", type=own("yaw_range"),
+                   help="degrees: --yaw turns objects within +-this (180, the whole turn)")
     p.add_argument("--yaw", action="store_true", default=None,
                    help="augment: turn every training object by a random yaw about z (for an "
                         "object frame of unknown heading)")
@@ -258,7 +260,7 @@ def cmd_evaluate(args):
                      starts=args.starts, steps=args.steps,
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
                      shared=not args.no_shared, min_elevation=args.min_elevation,
-                     max_elevation=args.max_elevation, readout=args.readout)
+                     max_elevation=args.max_elevation, readout=args.readout, yaw=args.yaw)
     s = summary(evaluate(cfg, runs=runs))
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
@@ -303,6 +305,8 @@ def add_evaluate(sub):
     p.add_argument("--readout", choices=("last", "mean"), default=None,
                    help="the answer after t views: the last step's (last) or the mean of every "
                         "step's class probabilities (mean); default each model's own")
+    p.add_argument("--yaw", type=own("yaw"), default=0.0,
+                   help="degrees: turn every object by its own seeded yaw within +-this (0)")
     p.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
     p.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
     p.set_defaults(func=cmd_evaluate)

@@ -66,6 +66,9 @@ class EvalConfig:
     # the paper's 50 that lie in the band, and every planner keeps to it; default the whole sphere
     min_elevation: float = option(-90.0, lo=-90, hi=90)
     max_elevation: float = option(90.0, lo=-90, hi=90)
+    # degrees: every object turned about z by its own seeded yaw within +-this, its box re-fitted
+    # (a detector that knows the heading only roughly; the fixed path and the judge see it too)
+    yaw: float = option(0.0, lo=0, hi=180)
     # the answer after t views (ModelConfig.readout: last or mean); None: each model's own
     readout: str | None = option(None, kind=str, optional=True, choices=("last", "mean"))
 
@@ -161,7 +164,7 @@ def checkpoint_split(path, cfg: EvalConfig, splits=None):
     if (size, radius) not in splits:
         splits[size, radius] = Shapes(open_dataset(cfg.dataset, cfg.root, cfg.split,
                                                    cache_dir=default_cache_dir()),
-                                      CameraConfig(size, size, radius=radius))
+                                      CameraConfig(size, size, radius=radius), cfg.yaw, cfg.seed)
     shapes = splits[size, radius]
     if list(shapes.ds.classes) != classes:
         raise InputError(f"{path or 'the shipped model'}: the checkpoint's classes {classes} are "
@@ -199,7 +202,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
         parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())
-        train, val = (Shapes(parts[s], test.camera) for s in ("train", "val"))
+        train, val = (Shapes(parts[s], test.camera, cfg.yaw, cfg.seed) for s in ("train", "val"))
         net = load_or_train(Path(cfg.judge or out / "shared_classifier.pt"), train, classes, seed=cfg.seed,
                             progress=progress)
         if "fixed" in cfg.planners:  # chosen on the validation split, which the judge never saw

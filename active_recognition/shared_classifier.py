@@ -74,12 +74,12 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
 
 def fingerprint(shapes):
     """What a shared classifier was trained on: the camera (size, radius, field of view) and the
-    training shapes themselves (count, and three meshes' vertices), so a cached one is not used
-    after a generator or the model's camera changed."""
+    training shapes themselves (count, and three meshes' vertices, turned by any yaw), so a
+    cached one is not used after a generator, the yaw or the model's camera changed."""
     n, c = len(shapes), shapes.camera
     h = hashlib.sha256(f"{n} {c.height}x{c.width} r{c.radius!r} fov{c.fov_rad!r}".encode())
     for i in sorted({0, n // 2, n - 1}):
-        h.update(np.ascontiguousarray(shapes.ds.mesh(i)[0], dtype=np.float32).tobytes())
+        h.update(np.ascontiguousarray(shapes.mesh(i)[0], dtype=np.float32).tobytes())
     return h.hexdigest()
 
 

@@ -91,6 +91,7 @@ class TrainConfig:
     resume: bool = option(False)
     max_shapes: int = option(0, lo=0)           # use only the first N training shapes (0: all)
     yaw: bool = option(False)                   # augment: objects turned by a random yaw
+    yaw_range: float = option(180.0, lo=0, hi=180, lo_open=True)  # degrees: that yaw within +-this
     frame_error: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: frame off by up to this
     floor_cut: float = option(0.0, lo=0, hi=0.5, hi_open=True)    # augment: bottom cut by up to this
     dropout: float = option(0.0, lo=0, hi=0.5, hi_open=True)      # augment: pixels missing, up to this
@@ -118,7 +119,7 @@ class TrainConfig:
 
     def augment(self, camera=None) -> Augment:
         """The augmentation these options ask for, on images of `camera` (a CameraConfig)."""
-        return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout,
+        return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout, self.yaw_range,
                        steep=self.steep_dropout, view_camera=camera)
 
 
@@ -156,8 +157,7 @@ def set_initial_step(model, step):
 def batches(n, batch, seed, stage, epoch, rank, world):
     """This rank's batches of shape indices for an epoch: same on resume, disjoint across ranks."""
     order = np.random.default_rng([seed, STAGES.index(stage), epoch]).permutation(n)
-    per_rank = n // world
-    mine = order[rank * per_rank:(rank + 1) * per_rank]
+    mine = order[rank * (n // world):(rank + 1) * (n // world)]
     return [mine[b:b + batch] for b in range(0, len(mine) - batch + 1, batch)] or [mine]
 
 

@@ -26,7 +26,7 @@ import argparse
 from dataclasses import replace
 from pathlib import Path
 
-from common import RESULTS, emit, results_dir
+from common import FOLDER, RESULTS, emit, results_dir
 from results_page import write_results_page
 
 from active_recognition import checkpoint
@@ -92,19 +92,26 @@ def main():
                     help="degrees: views from no lower (-90: the whole sphere, the paper's; 0: a "
                          "robot's, nothing from below the object's support)")
     ap.add_argument("--max-elevation", type=float, default=90.0, help="degrees: views from no higher")
+    ap.add_argument("--yaw", type=float, default=0.0,
+                    help="degrees: every object turned by its own seeded yaw within +-this (a "
+                         "detector's rough heading); results go to docs/results/<dataset>-yaw<N>")
     ap.add_argument("--ship", action="store_true",
                     help="write the measured best planner (and the fixed path) into the "
                          "dataset's shipped model, for the recognizer's planner 'auto'")
     args = ap.parse_args()
     if args.ship and args.split != "test":
         ap.error("--ship records the default planner for the test split's models; leave out --split")
+    if args.ship and args.yaw:
+        ap.error("--ship records the default planner chosen at the canonical heading; leave out --yaw")
     if (args.dataset == "modelnet") != bool(args.root):
         ap.error("--root goes with --dataset modelnet, and modelnet needs it (README: ModelNet10)")
     if args.split == "cross" and args.dataset == "modelnet":
         ap.error("the cross split is a generated benchmark's; ModelNet10 has test")
     runs = results_dir(args.dataset)
     cross = RESULTS / f"{args.dataset}-cross"  # the held-out styles
-    out = Path(args.out) if args.out else cross if args.split == "cross" else runs
+    turned = RESULTS / f"{FOLDER[args.dataset] or args.dataset}-yaw{args.yaw:g}"
+    out = Path(args.out) if args.out else cross if args.split == "cross" else \
+        turned if args.yaw else runs
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
@@ -124,7 +131,7 @@ def main():
     cfg = EvalConfig(checkpoint=model, planner_checkpoints=own, planners=PLANNERS[args.dataset],
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, out=str(out), min_elevation=args.min_elevation,
-                     max_elevation=args.max_elevation)
+                     max_elevation=args.max_elevation, yaw=args.yaw)
     chosen, val_acc = choose_default(cfg, out)  # on the validation split, before test is read
     results = evaluate(cfg)
     s = summary(results)

@@ -319,6 +319,36 @@ def camera_section(path, heading=None):
                          "mean views"])]
 
 
+def turned_section(folder, upright):
+    """The same benchmark with every object turned by its own yaw within +-45 degrees
+    (`planners.py --yaw 45`), its default planner beside the fixed motions and beside its own
+    figure at the canonical heading (`upright`, that run's summary)."""
+    if not (folder / "summary.json").is_file():
+        return []
+    s = json.loads((folder / "summary.json").read_text())
+    best = upright.get("default_planner")
+    parts = ["", "## Heading known to +-45 degrees", "",
+             f"`python benchmarks/planners.py --dataset {folder.name.split('-')[0]} --yaw 45 "
+             "--min-elevation 0`: every test object turned about its vertical axis by its own "
+             f"seeded yaw within +-45 degrees, its box re-fitted ({episodes(folder)}; "
+             f"{folder.relative_to(folder.parents[2])}/summary.json). Accuracy (%) after 3 / 6 / 9 "
+             "views, own classifier:", "",
+             table(accuracy_rows(s, "acc", "stderr_3"), ["planner", "3", "6", "9", "s.e. at 3"]),
+             "", "Shared classifier:", "",
+             table(accuracy_rows(s, "acc_shared", "stderr_3_shared"), ["planner", "3", "6", "9", "s.e. at 3"])]
+    acc3 = {k: v["3"] for k, v in s["acc"].items()}
+    sh3 = {k: v["3"] for k, v in s["acc_shared"].items()}
+    fixed = [p for p in ("random", "straight", "fixed") if p in acc3]
+    if best in acc3 and fixed:
+        lead = 100 * (acc3[best] - max(acc3[p] for p in fixed))
+        lead_sh = 100 * (sh3[best] - max(sh3[p] for p in fixed))
+        drop = 100 * (upright["acc"][best]["3"] - acc3[best])
+        parts += ["", f"At 3 views the default `{best}` leads the best of {', '.join(fixed)} by "
+                  f"{lead:+.1f} points with its own classifier and {lead_sh:+.1f} with the shared "
+                  f"one, and scores {drop:.1f} points below its figure at the canonical heading."]
+    return parts
+
+
 def twins_section(folder):
     """The twins benchmark: its headroom, and every planner on the same episodes."""
     folder = Path(folder)
@@ -356,6 +386,7 @@ def twins_section(folder):
                          "over the best of random and straight, here scored by twins.pt's "
                          "classifier; with its own classifier see the candidate table below")
         parts += ["", "At 3 views:", "", *lines]
+    parts += turned_section(folder.parent / f"{folder.name}-yaw45", s)
     t = s.get("training_time", {})
     if t:
         ratio = "n/a" if t.get("ratio") is None else f"{t['ratio']:.2f}"

@@ -33,13 +33,32 @@ def long_box():
 def test_yaw_turns_the_object_and_refits_its_box():
     v, _ = long_box()
     rng = np.random.default_rng(5)
-    a = np.random.default_rng(5).uniform(0, 2 * np.pi)  # the angle transform will draw
+    a = np.random.default_rng(5).uniform(-np.pi, np.pi)  # the angle transform will draw
     t, lo = Augment(yaw=True).transform(v, rng)
     c, s = abs(math.cos(a)), abs(math.sin(a))
     ext = np.array([c + 0.2 * s, s + 0.2 * c, 0.2])  # the turned box's bounds, before refitting
     np.testing.assert_allclose(np.ptp(t, 0), ext / ext.max(), atol=1e-9)
     np.testing.assert_allclose(t.max(0) + t.min(0), 0, atol=1e-9)
     np.testing.assert_allclose(lo, -0.6)
+
+
+def test_yaw_range_keeps_the_turn_within_its_bound():
+    """Two corners of the long box one edge apart along x: after the turn (and the refit, which
+    only centres and scales) the line between them points at the yaw drawn. Over 200 draws at
+    45 degrees every one lies within +-45, and they reach near both bounds."""
+    v, _ = long_box()
+    i = int(np.argmax(v @ [1, 1e-3, 1e-6]))                    # (0.5, 0.1, 0.1)
+    j = int(np.argmin(np.abs(v - v[i] + [1, 0, 0]).sum(1)))  # (-0.5, 0.1, 0.1)
+    rng, angles = np.random.default_rng(0), []
+    for _ in range(200):
+        t, _ = Augment(yaw=True, yaw_range=45).transform(v, rng)
+        d = t[i] - t[j]
+        angles.append(math.degrees(math.atan2(d[1], d[0])))
+    assert np.abs(angles).max() <= 45 and min(angles) < -40 and max(angles) > 40
+    with pytest.raises(ValueError, match="yaw_range"):
+        Augment(yaw=True, yaw_range=0)
+    with pytest.raises(ValueError, match="yaw_range"):
+        TrainConfig(yaw=True, yaw_range=270)
 
 
 def test_frame_error_moves_and_scales_within_its_bounds():

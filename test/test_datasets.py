@@ -325,3 +325,47 @@ def test_generated_benchmarks_have_a_validation_split_and_file_ones_no_cross(tmp
     (tmp_path / "m" / "chair" / "test").mkdir(parents=True)
     with pytest.raises(InputError, match="the cross split .* modelnet has train, val and test"):
         open_dataset("modelnet", tmp_path / "m", "cross")
+
+
+def test_shapes_with_a_yaw_turn_each_object_by_its_own_seeded_yaw_within_the_bound():
+    """Shapes(yaw=30): each camera holds the dataset's mesh turned by its own yaw (meshes.yawed),
+    every yaw within +-30 degrees, the same for the same seed and another for another; the
+    shared classifier's fingerprint tells the turned shapes from the upright ones."""
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.meshes import yawed
+    from active_recognition.shared_classifier import fingerprint
+    ds = open_dataset("twins", split="test", per_class=2)
+    cam = CameraConfig(32, 32)
+    upright, turned, again, other = (Shapes(ds, cam, yaw, seed) for yaw, seed in
+                                     ((0, 0), (30, 0), (30, 0), (30, 1)))
+    assert upright.yaws is None
+    assert np.abs(np.degrees(turned.yaws)).max() <= 30 and np.ptp(turned.yaws) > np.radians(20)
+    np.testing.assert_array_equal(turned.yaws, again.yaws)
+    assert not np.allclose(turned.yaws, other.yaws)
+    for i in (0, 5, len(ds) - 1):
+        v, f = ds.mesh(i)
+        np.testing.assert_array_equal(upright.mesh(i)[0], v)
+        np.testing.assert_allclose(turned.mesh(i)[0], yawed(v, turned.yaws[i]))
+        view = np.array([[1.2, 0.4]])
+        np.testing.assert_array_equal(turned.cameras([i])[0].render(view),
+                                      DepthCamera(yawed(v, turned.yaws[i]), f, cam).render(view))
+    assert fingerprint(turned) != fingerprint(upright) == fingerprint(Shapes(ds, cam))
+
+
+def test_a_simulated_camera_opens_a_split_once_for_every_object_it_shows(tmp_path, monkeypatch):
+    """Switching objects reads the split's index once per process and cache folder; another
+    cache folder opens it again; the meshes are the dataset's own."""
+    import active_recognition.simulated_camera as sc
+    opened = []
+    real = sc.open_dataset
+    monkeypatch.setattr(sc, "open_dataset", lambda *a, **k: opened.append(a) or real(*a, **k))
+    sc.opened.cache_clear()
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "a"))
+    shown = [sc.load_object(dataset="twins", split="test", index=i) for i in (0, 3, 0)]
+    assert len(opened) == 1 and shown[0][2] == shown[2][2] != shown[1][2]
+    ds = open_dataset("twins", split="test")
+    np.testing.assert_array_equal(shown[1][0], ds.mesh(3)[0])
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "b"))
+    sc.load_object(dataset="twins", split="test", index=1)
+    assert len(opened) == 2
+    sc.opened.cache_clear()

@@ -15,25 +15,39 @@
 """A dataset split as the renderer sees it: one depth camera per shape, built when first asked for."""
 from __future__ import annotations
 
+import numpy as np
+
 from ..augment import Augment
 from ..depth_layer import CameraConfig, DepthCamera
+from ..meshes import yawed
 
 
 class Shapes:
     """A dataset split with one lazily built DepthCamera per shape, or with `augment` (and an
-    rng) a fresh camera around an augmented copy of each shape."""
+    rng) a fresh camera around an augmented copy of each shape. With `yaw` (degrees) each shape
+    is turned about z by its own seeded yaw, uniform within +-yaw, its box re-fitted (objects
+    whose heading a detector knows only roughly)."""
 
-    def __init__(self, ds, camera: CameraConfig):
+    def __init__(self, ds, camera: CameraConfig, yaw=0.0, seed=0):
         self.ds, self.camera, self._cams = ds, camera, {}
         self.labels = ds.labels()
+        self.yaws = None
+        if yaw:
+            rng = np.random.default_rng([seed, len(ds), *map(ord, ds.split)])
+            self.yaws = np.radians(rng.uniform(-yaw, yaw, len(ds)))
+
+    def mesh(self, i):
+        """(vertices, faces) of shape i, turned by its yaw."""
+        vertices, faces = self.ds.mesh(i)
+        return (vertices, faces) if self.yaws is None else (yawed(vertices, self.yaws[i]), faces)
 
     def __len__(self):
         return len(self.ds)
 
     def cameras(self, idx, augment: Augment | None = None, rng=None):
         if augment is not None and augment.meshes:
-            return [augment.camera(*self.ds.mesh(i), self.camera, rng) for i in idx]
+            return [augment.camera(*self.mesh(i), self.camera, rng) for i in idx]
         for i in idx:
             if i not in self._cams:
-                self._cams[i] = DepthCamera(*self.ds.mesh(i), self.camera)
+                self._cams[i] = DepthCamera(*self.mesh(i), self.camera)
         return [self._cams[i] for i in idx]
