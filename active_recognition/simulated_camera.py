@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -37,11 +38,18 @@ NOISE = ("none", "kinect")
 ENCODINGS = ("32FC1", "16UC1")
 
 
+@lru_cache(maxsize=4)
+def opened(dataset, split, root, cache_dir):
+    """A dataset split, opened once per process (a camera that switches objects, a benchmark
+    that shows a whole split, would otherwise read the split's index again for every object)."""
+    return open_dataset(dataset, root, split, cache_dir=cache_dir)
+
+
 def load_object(mesh="", dataset="procedural", split="test", index=0, root=""):
     """(vertices, faces, description) of a mesh file, or of item `index` of a dataset split."""
     if mesh:
         return (*load_mesh(mesh), mesh)
-    ds = open_dataset(dataset, root or None, split, cache_dir=default_cache_dir())
+    ds = opened(dataset, split, root or None, default_cache_dir())
     if not 0 <= index < len(ds):
         raise InputError(f"{dataset}/{split} has {len(ds)} objects; index {index} is out of range")
     return (*ds.mesh(index), f"{dataset}/{split}[{index}] ({ds.classes[ds.items[index][1]]})")
