@@ -36,8 +36,9 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
     depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
     present (their median). Neither rule grows a silhouette: a pixel outside an edge, a corner or
     a staircase has at most 2 direct neighbours. Only `fillable` pixels (default all) change.
-    Only holes with 2 or more of their 8 neighbours present are looked at, and after the first
-    round only those beside a pixel the round before filled."""
+    The first round looks only at holes either rule could fill (two opposite neighbours, or 3
+    of the 4 direct ones, present), later rounds only at those beside a pixel the round before
+    filled."""
     z = np.array(z, dtype=np.float64)
     h, w = z.shape
     finite = np.isfinite(z)
@@ -48,10 +49,13 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
     start = open_.copy()
     known = np.zeros((h + 2, w + 2), np.uint8)
     known[1:-1, 1:-1] = finite
-    count = sum(known[1 + dr:1 + dr + h, 1 + dc:1 + dc + w] for dr, dc in NEIGHBOURS)
+    nbk = [known[1 + dr:1 + dr + h, 1 + dc:1 + dc + w] for dr, dc in NEIGHBOURS]
+    # a hole the first round can fill: two opposite neighbours, or 3 of the 4 direct ones
+    can = (nbk[0] & nbk[4]) | (nbk[1] & nbk[5]) | (nbk[2] & nbk[6]) | (nbk[3] & nbk[7])
+    can |= (nbk[0] + nbk[1] + nbk[4] + nbk[5]) >= 3
     flat, holes = pad.ravel(), open_.ravel()
     offsets = np.array([dr * (w + 2) + dc for dr, dc in NEIGHBOURS])
-    at = np.flatnonzero(open_[1:-1, 1:-1] & (count >= 2))
+    at = np.flatnonzero(open_[1:-1, 1:-1] & can)
     at = (at // w + 1) * (w + 2) + at % w + 1  # padded
     for _ in range(iterations):
         if len(at) == 0:
@@ -59,7 +63,8 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
         nb = flat[at + offsets[:, None]]  # (8, M)
         a, b = nb[:4], nb[4:]
         with np.errstate(invalid="ignore"):
-            gap = np.where(np.abs(a - b) <= agree * np.fmin(a, b), np.abs(a - b), np.inf)
+            gap = np.abs(a - b)
+            gap[~(gap <= agree * np.fmin(a, b))] = np.inf
         pair = np.isfinite(gap).any(0)
         direct = nb[[0, 1, 4, 5]]
         present = (~np.isnan(direct)).sum(0)
@@ -67,8 +72,8 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
         done = pair | crowd
         if not done.any():
             break
-        best = np.argmin(gap, 0)[None]
-        mean = (np.take_along_axis(a, best, 0)[0] + np.take_along_axis(b, best, 0)[0]) / 2
+        best, column = np.argmin(gap, 0), np.arange(len(at))
+        mean = (a[best, column] + b[best, column]) / 2
         ordered = np.sort(direct, 0)  # NaN last: the median of 3 or of 4
         median = np.where(present == 4, (ordered[1] + ordered[2]) / 2, ordered[1])
         filled = at[done]
