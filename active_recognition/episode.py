@@ -65,6 +65,8 @@ class Episode:
     # the views a robot can take (reach.Reach: an elevation band, views found unreachable);
     # None = the whole sphere. Every planner's next view is kept inside it
     reach: object = None
+    # what runs the model a step (model.single_step: traced, for B = 1); None: the model itself
+    forward: object = None
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
@@ -102,7 +104,7 @@ class Episode:
             self.views[-1] = self.view
         depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
         depth = depth.reshape(len(self.view), *depth.shape[-2:])
-        logits, delta, self.hidden = self.model(depth, self.hidden, self.view)
+        logits, delta, self.hidden = (self.forward or self.model)(depth, self.hidden, self.view)
         probs = self.answer(logits.softmax(-1))
         h = entropy(probs)
         prev = self.entropies[-1] if self.entropies else torch.full_like(h, math.log(probs.shape[-1]))

@@ -35,6 +35,7 @@ import torch
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
+from .model import single_step
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -108,7 +109,7 @@ class ActiveRecognizer:
         self.reach = Reach(limits)
         self.episode = Episode(self.model, episode, make_planner(
             self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")),
-            reach=self.reach)
+            reach=self.reach, forward=single_step(self.model))
         self.rng = np.random.default_rng(seed)
         self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
         # the views a planner chooses among (FC_view's, else the paper's 50): once every one it

@@ -70,6 +70,32 @@ def test_bad_model_configuration_is_refused():
         ModelConfig(hidden_size=0)
 
 
+@pytest.mark.parametrize("config", [dict(), dict(encoder="wide", view_input=True, memory="rnn+max",
+                                                   candidates=5)])
+def test_the_traced_single_step_gives_the_modules_numbers(config):
+    """model.single_step (TorchScript, frozen, batch norms folded into the convolutions) against
+    the module over a 4-step episode of one object: the same logits, increments and states."""
+    from active_recognition.model import single_step
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=6, hidden_size=32, feature_size=24, **config))
+    with torch.no_grad():  # batch norms that are not the identity
+        for m in model.modules():
+            if isinstance(m, torch.nn.BatchNorm2d):
+                m.running_mean.uniform_(-0.5, 0.5), m.running_var.uniform_(0.5, 2.0)
+                m.weight.uniform_(0.5, 1.5), m.bias.uniform_(-0.2, 0.2)
+    model.eval()
+    fast = single_step(model)
+    assert fast is not model
+    state = fast_state = model.init_hidden(1)
+    with torch.no_grad():
+        for t in range(4):
+            depth, view = torch.rand(1, 64, 64) * 255, torch.rand(1, 2) * 3
+            ours, theirs = fast(depth, fast_state, view), model(depth, state, view)
+            for a, b in zip(ours, theirs):
+                torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-5)
+            fast_state, state = ours[2], theirs[2]
+
+
 def confident_model(bias):
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(num_classes=4, hidden_size=16))
