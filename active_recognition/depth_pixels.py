@@ -73,11 +73,12 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
         if not done.any():
             break
         best, column = np.argmin(gap, 0), np.arange(len(at))
-        mean = (a[best, column] + b[best, column]) / 2
-        ordered = np.sort(direct, 0)  # NaN last: the median of 3 or of 4
-        median = np.where(present == 4, (ordered[1] + ordered[2]) / 2, ordered[1])
+        value = (a[best, column] + b[best, column]) / 2
+        if crowd.any():
+            ordered = np.sort(direct[:, crowd], 0)  # NaN last: the median of 3 or of 4
+            value[crowd] = np.where(present[crowd] == 4, (ordered[1] + ordered[2]) / 2, ordered[1])
         filled = at[done]
-        flat[filled] = np.where(pair, mean, median)[done]
+        flat[filled] = value[done]
         holes[filled] = False
         near = np.zeros(flat.size, bool)  # the holes beside them, each once
         near[(filled + offsets[:, None]).ravel()] = True
@@ -97,16 +98,35 @@ def _from_ordered_bits(key):
     return bits.view(np.float32)
 
 
+RING_STEPS = 6  # up to so many steps, spread grows ring by ring; beyond, one distance transform
+
+
 def spread(z, steps):
     """Each missing pixel (NaN) takes the depth of a present pixel within `steps` pixels (4-way
-    steps, the nearest first, the smallest among equally near ones); farther ones stay NaN.
+    steps, the nearest first, the smallest among equally near ones), at float32 precision;
+    farther ones stay NaN.
 
-    A city-block distance transform, exact: the distance and the depth (at float32 precision)
-    ride in one integer key, minimised with running minima down and up the columns, then along
-    the rows (a 4-way path can always go along a column first)."""
+    A few steps (the usual: a model pixel and one more) grow ring by ring, each missing pixel
+    beside the last ring taking the least of its 4 neighbours (a 4-way path to the nearest present
+    pixels passes only through missing pixels one step nearer). More steps take a city-block
+    distance transform, exact: the distance and the depth ride in one integer key, minimised with
+    running minima down and up the columns, then along the rows (a 4-way path can always go along
+    a column first)."""
     z = np.array(z, dtype=np.float64)
     missing = np.isnan(z)
     if steps <= 0 or missing.all() or not missing.any():
+        return z
+    if steps <= RING_STEPS:
+        pad = np.full((z.shape[0] + 2, z.shape[1] + 2), np.nan)
+        inner = pad[1:-1, 1:-1]
+        inner[...] = z.astype(np.float32)
+        for _ in range(steps):
+            near = np.fmin(np.fmin(pad[:-2, 1:-1], pad[2:, 1:-1]), np.fmin(pad[1:-1, :-2], pad[1:-1, 2:]))
+            ring = np.isnan(inner) & ~np.isnan(near)
+            if not ring.any():
+                break
+            inner[ring] = near[ring]
+        z[missing] = inner[missing]
         return z
     depth = _ordered_bits(np.where(missing, 0, z).astype(np.float32))
     key = np.where(missing, np.int64(2) ** 62, depth)  # distance << 32 | depth

@@ -297,6 +297,23 @@ def test_fill_holes_and_spread_match_the_whole_frame_loops():
         np.testing.assert_array_equal(spread(d, steps), reference.spread(d, steps))
 
 
+def test_spread_by_rings_equals_the_distance_transform(monkeypatch):
+    """Up to RING_STEPS steps spread grows ring by ring; the distance transform it uses beyond
+    gives the same bits, on depths that are not float32 numbers too."""
+    import active_recognition.depth_pixels as dp
+    rng = np.random.default_rng(5)
+    cases = []
+    for _ in range(300):
+        h, w = rng.integers(1, 50, 2)
+        d = rng.uniform(0.3, 4, (h, w))
+        d[rng.random((h, w)) < rng.uniform(0, 1)] = np.nan
+        cases.append((d, int(rng.integers(1, dp.RING_STEPS + 1))))
+    rings = [spread(d, steps) for d, steps in cases]
+    monkeypatch.setattr(dp, "RING_STEPS", 0)
+    for (d, steps), ring in zip(cases, rings):
+        np.testing.assert_array_equal(ring, spread(d, steps))
+
+
 def frames(sensor, n, seed=0):
     """n frames of procedural test objects from random views, near and farther off."""
     from active_recognition.datasets import default_cache_dir, open_dataset
