@@ -41,49 +41,57 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
     filled."""
     z = np.array(z, dtype=np.float64)
     h, w = z.shape
-    finite = np.isfinite(z)
     pad = np.full((h + 2, w + 2), np.nan)
-    pad[1:-1, 1:-1] = np.where(finite, z, np.nan)
-    open_ = np.zeros((h + 2, w + 2), bool)  # the holes that may be filled, padded
-    open_[1:-1, 1:-1] = ~finite if fillable is None else ~finite & fillable
-    start = open_.copy()
-    known = np.zeros((h + 2, w + 2), np.uint8)
+    inner = pad[1:-1, 1:-1]
+    inner[...] = z
+    finite = np.isfinite(inner)
+    inner[~finite] = np.nan
+    holes = np.zeros((h + 2, w + 2), bool)  # the holes that may be filled, padded
+    holes[1:-1, 1:-1] = ~finite if fillable is None else ~finite & fillable
+    known = np.zeros((h + 2, w + 2), bool)
     known[1:-1, 1:-1] = finite
     nbk = [known[1 + dr:1 + dr + h, 1 + dc:1 + dc + w] for dr, dc in NEIGHBOURS]
     # a hole the first round can fill: two opposite neighbours, or 3 of the 4 direct ones
     can = (nbk[0] & nbk[4]) | (nbk[1] & nbk[5]) | (nbk[2] & nbk[6]) | (nbk[3] & nbk[7])
-    can |= (nbk[0] + nbk[1] + nbk[4] + nbk[5]) >= 3
-    flat, holes = pad.ravel(), open_.ravel()
-    offsets = np.array([dr * (w + 2) + dc for dr, dc in NEIGHBOURS])
-    at = np.flatnonzero(open_[1:-1, 1:-1] & can)
+    can |= (nbk[0].view(np.uint8) + nbk[1] + nbk[4] + nbk[5]) >= 3
+    flat, holes = pad.ravel(), holes.ravel()
+    offsets = np.array([dr * (w + 2) + dc for dr, dc in NEIGHBOURS])[:, None]
+    at = np.flatnonzero(holes.reshape(h + 2, w + 2)[1:-1, 1:-1] & can)
     at = (at // w + 1) * (w + 2) + at % w + 1  # padded
+    filled_all = []
     for _ in range(iterations):
         if len(at) == 0:
             break
-        nb = flat[at + offsets[:, None]]  # (8, M)
+        nb = flat[at + offsets]  # (8, M)
         a, b = nb[:4], nb[4:]
         with np.errstate(invalid="ignore"):
             gap = np.abs(a - b)
-            gap[~(gap <= agree * np.fmin(a, b))] = np.inf
-        pair = np.isfinite(gap).any(0)
+            agreeing = gap <= agree * np.fmin(a, b)
+        pair = agreeing.any(0)
         direct = nb[[0, 1, 4, 5]]
-        present = (~np.isnan(direct)).sum(0)
-        crowd = ~pair & (present >= 3)
+        crowd = (np.isnan(direct).sum(0) <= 1) & ~pair
         done = pair | crowd
         if not done.any():
             break
-        best, column = np.argmin(gap, 0), np.arange(len(at))
+        gap[~agreeing] = np.inf
+        column = np.arange(len(at))
+        best = np.argmin(gap, 0)
         value = (a[best, column] + b[best, column]) / 2
         if crowd.any():
             ordered = np.sort(direct[:, crowd], 0)  # NaN last: the median of 3 or of 4
-            value[crowd] = np.where(present[crowd] == 4, (ordered[1] + ordered[2]) / 2, ordered[1])
+            four = ~np.isnan(ordered[3])
+            value[crowd] = np.where(four, (ordered[1] + ordered[2]) / 2, ordered[1])
         filled = at[done]
         flat[filled] = value[done]
         holes[filled] = False
+        filled_all.append(filled)
         near = np.zeros(flat.size, bool)  # the holes beside them, each once
-        near[(filled + offsets[:, None]).ravel()] = True
+        near[(filled + offsets).ravel()] = True
         at = np.flatnonzero(near & holes)
-    return np.where((start & ~open_)[1:-1, 1:-1], pad[1:-1, 1:-1], z)
+    if filled_all:
+        filled = np.concatenate(filled_all)
+        z.ravel()[(filled // (w + 2) - 1) * w + filled % (w + 2) - 1] = flat[filled]
+    return z
 
 
 def _ordered_bits(x):
