@@ -134,7 +134,7 @@ class Episode:
             step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32,
                                              device=self.view.device)
         if self.reach is not None:
-            step.next_view = self.reach.keep(step.next_view, self.visited())
+            step.next_view = self.reach.keep(step.next_view, self.visited)
         self.view = step.next_view
         self.views.append(self.view)
         return step

@@ -129,16 +129,16 @@ class Reach:
 
     def keep(self, views, visited=()):
         """views (B, 2) clamped into the band; one near a blocked view replaced by the nearest
-        free candidate (unvisited if any; `visited` (M, 2)), kept when none is left (the caller
-        ends the episode: `free_candidates` is empty). Torch views stay torch (differentiable
-        where untouched)."""
+        free candidate (unvisited if any; `visited` (M, 2), or a function giving them, called
+        only then), kept when none is left (the caller ends the episode: `free_candidates` is
+        empty). Torch views stay torch (differentiable where untouched)."""
         views = self.limits.clamp(views)
         rows = views.detach().cpu().numpy() if hasattr(views, "detach") else np.asarray(views)
         rows = np.asarray(rows, dtype=np.float64).reshape(-1, 2)
         bad = ~self.allows(rows)
         if not bad.any():
             return views
-        free = self.free_candidates(visited)
+        free = self.free_candidates(visited() if callable(visited) else visited)
         if not len(free):
             return views
         nearest = free[angles_between(rows[bad], free).argmin(1)]

@@ -161,6 +161,7 @@ class Frame:
             raise InputError(f"depth image is {z.shape[1]}x{z.shape[0]} but the camera info says "
                              f"{k.width}x{k.height}")
         self.k, self.camera, self.size, self.margin = k, camera, object_size, box_margin
+        self.model_k = camera.intrinsics()
         self.position = np.asarray(position, dtype=np.float64) / object_size
         self.rotation = np.asarray(optical_rotation, dtype=np.float64)
         s = self.stride = stride or max(1, int(self.ratio() / RAYS_PER_PIXEL))
@@ -200,7 +201,7 @@ class Frame:
     def ratio(self, depth=None):
         """This camera's pixels per model pixel, at the object's distance (or `depth` metres)."""
         depth = self.centre_depth() if depth is None else depth
-        model = self.camera.intrinsics().fx / self.camera.radius
+        model = self.model_k.fx / self.camera.radius
         return self.k.fx / (depth / self.size) / model
 
     def spread_steps(self, reach=0.0, offset=np.zeros(3)):
@@ -272,7 +273,7 @@ class Frame:
         local = [(m[0, j] * u + m[1, j] * v + m[2, j]) * depth + t[j] for j in range(3)]
         z = -local[2]
         front = z > 1e-6
-        k, cam = self.camera.intrinsics(), self.camera
+        k, cam = self.model_k, self.camera
         z, up, right = z[front], local[0][front], local[1][front]
         col = np.rint(k.cx - k.fx * right / z).astype(np.int64)  # right = -Y
         row = np.rint(k.cy - k.fy * up / z).astype(np.int64)  # down = -up

@@ -17,7 +17,7 @@ a full 10-view closed loop over topics with the simulated camera, at the model's
 at a RealSense's 640x480 and 1280x720 (the first view of each object included); a 30 Hz image
 stream for 60 s (does it keep up, drop nothing it could process, keep its memory flat?); and a
 30 Hz 640x480 stream with K and poses from another process, as a real camera's driver sends it.
-Medians and p99; last line is JSON."""
+Medians and p99; last line is JSON, also written to docs/results/ros_latency.json."""
 import argparse
 import json
 import os
@@ -28,7 +28,7 @@ import time
 from dataclasses import fields
 
 import numpy as np
-from common import emit
+from common import RESULTS, emit
 from geometry_msgs.msg import PoseStamped
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -41,6 +41,7 @@ from active_recognition.nodes.demo import DemoClient, recognize, ros_session, sp
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
 from active_recognition.reprojection import auto_standoff
+from active_recognition.report import write_json
 from active_recognition.simulated_camera import sensor_config
 
 # the RealSense preset (noise, holes, floor, 2 degrees of arm error) at two sizes
@@ -58,8 +59,11 @@ def rss_mb():
 
 def closed_loop(episodes, camera=None):
     """Time `episodes` 10-view episodes (after 2 to warm up) with the simulated camera, the
-    model's own (camera None) or the RealSense preset with `camera`'s size and K."""
-    with ros_session() as (ctx, ex):
+    model's own (camera None) or the RealSense preset with `camera`'s size and K. Every callback
+    runs in one thread, as each node runs in its own process (`rclpy.spin`): in a multi-threaded
+    executor's worker threads torch does not keep its one-thread setting, and a step of the
+    compact model took 0.5 ms more."""
+    with ros_session(one_thread=True) as (ctx, ex):
         sensor = [] if camera is None else [
             Parameter(f.name, value=getattr(sensor_config("realsense", **camera), f.name))
             for f in fields(sensor_config())]
@@ -193,6 +197,7 @@ def main():
                     help="episodes at 640x480 and at 1280x720")
     ap.add_argument("--publish", type=float, default=0.0,
                     help="(the camera's process) publish 640x480 frames for this many seconds")
+    ap.add_argument("--out", default=str(RESULTS / "ros_latency.json"), help="JSON of the figures")
     args = ap.parse_args()
     if args.publish:
         return publish_stream(args.publish, args.hz, VGA)
@@ -216,6 +221,7 @@ def main():
     print(f"640x480 at {args.hz:.0f} Hz from another process (reliable publisher): published "
           f"{out['vga_stream_published']}, received {out['vga_stream_received']}, processed "
           f"{out['vga_stream_processed']}")
+    write_json(args.out, out)
     emit(out)
 
 

@@ -60,11 +60,13 @@ class MultiThreadedExecutor(executors.MultiThreadedExecutor):
 
 
 @contextmanager
-def ros_session(args=None):
-    """A private rclpy context and a MultiThreadedExecutor; every node added is destroyed after."""
+def ros_session(args=None, one_thread=False):
+    """A private rclpy context and a MultiThreadedExecutor (`one_thread`: a SingleThreadedExecutor,
+    every callback in the spinning thread, as `rclpy.spin` runs a node in its own process); every
+    node added is destroyed after."""
     ctx = rclpy.Context()
     rclpy.init(args=args, context=ctx)
-    executor = MultiThreadedExecutor(context=ctx)
+    executor = (executors.SingleThreadedExecutor if one_thread else MultiThreadedExecutor)(context=ctx)
     try:
         yield ctx, executor
     finally:
