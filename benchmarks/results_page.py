@@ -240,7 +240,8 @@ cp runs/twins_reinforce/final.pt active_recognition/checkpoints/twins_reinforce.
 cp runs/twins_fixes/metrics.csv docs/results/twins/learned_metrics.csv
 cp runs/twins_reinforce/metrics.csv docs/results/twins/reinforce_metrics.csv
 python benchmarks/dataset_difficulty.py --dataset twins --out docs/results/twins/difficulty.json
-python benchmarks/planners.py --dataset twins --ship"""
+python benchmarks/planners.py --dataset twins --min-elevation 0 --ship
+python benchmarks/planners.py --dataset twins --min-elevation 0 --yaw 45"""
 
 
 def headroom_section(path):
@@ -357,8 +358,10 @@ def twins_section(folder):
     s = json.loads((folder / "summary.json").read_text())
     parts = ["", "# Results on the twins benchmark", "",
              "Six pairs of look-alike furniture; the two classes of a pair differ only by what sits "
-             "at the back of a niche that is seen from about 45 degrees around one face, and each "
-             "pair has its niche on another face (README, 'The twins benchmark'). Every planner "
+             "at the back of a niche that is seen from about 45 degrees around one face; the niches "
+             "lie on the five faces seen from above a floor, two pairs at the front (README, 'The "
+             "twins benchmark'). Every view is from above the floor (`--min-elevation 0`). "
+             "Every planner "
              f"runs the same episodes ({episodes(folder)}). `learned` drives twins_learned.pt "
              "(the best end-to-end run, "
              "`fixes` in the candidate table below), `reinforce` twins_reinforce.pt; random, "

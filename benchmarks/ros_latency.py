@@ -40,8 +40,8 @@ from active_recognition.checkpoint import SHIPPED
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
-from active_recognition.reprojection import auto_standoff
 from active_recognition.report import write_json
+from active_recognition.reprojection import auto_standoff
 from active_recognition.simulated_camera import sensor_config
 
 # the RealSense preset (noise, holes, floor, 2 degrees of arm error) at two sizes

@@ -70,8 +70,10 @@ def test_bad_model_configuration_is_refused():
         ModelConfig(hidden_size=0)
 
 
-@pytest.mark.parametrize("config", [dict(), dict(encoder="wide", view_input=True, memory="rnn+max",
-                                                   candidates=5)])
+WIDE = dict(encoder="wide", view_input=True, memory="rnn+max", candidates=5)
+
+
+@pytest.mark.parametrize("config", [dict(), WIDE])
 def test_the_traced_single_step_gives_the_modules_numbers(config):
     """model.single_step (TorchScript, frozen, batch norms folded into the convolutions) against
     the module over a 4-step episode of one object: the same logits, increments and states."""

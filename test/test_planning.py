@@ -59,6 +59,19 @@ def test_twins_differ_only_where_their_niche_faces(pair, held_out):
         assert differ >= 20, f"pair {pair}: only {differ} pixels tell the twins apart"
 
 
+@pytest.mark.parametrize("pair", range(len(PAIRS)))
+def test_every_twins_telling_face_is_seen_from_a_view_a_robot_can_take(pair):
+    """The recognizer's default reach (no view from below the object's support): among the
+    paper's 50 views inside it, some tell each pair's twins apart."""
+    from active_recognition.reach import ViewLimits
+    views = ViewLimits(0.0, 90.0).initial_views(50)
+    assert len(views) and (np.array([geometry.camera_position(*v)[2] for v in views]) >= -1e-9).all()
+    for seed in (3, 11):
+        a, b = (DepthCamera(*make_shape(2 * pair + k, seed)) for k in (0, 1))
+        differ = (a.render(views) != b.render(views)).sum((1, 2))
+        assert differ.max() >= 20, f"pair {PAIRS[pair][0]}: no reachable view tells its twins apart"
+
+
 def test_twins_cross_split_is_dressed_only_in_the_held_out_styles():
     from active_recognition.datasets.twins import dressing
     train = [dressing(np.random.default_rng(s)) for s in range(40)]

@@ -18,10 +18,11 @@ Every class is a piece of furniture with a deep niche in one face. The two class
 share everything (base, proportions, niche) except what sits at the back of the niche: a
 `drawer` (a block standing out of the back wall) or a `hollow` (the back wall opens into a
 deeper hole). The niche's walls hide its back from every view but those that look into it, so
-the pair is told apart only from a cone of about 45 degrees around that face's normal. Each pair
-has its niche on another face (front, back, top, bottom, right and left sides), so no fixed sequence of
-views serves every pair: a planner has to look, see which piece of furniture it is, and then go
-to that piece's telling side. Shapes are upright (+Z) and face -Y, like ModelNet's; proportions,
+the pair is told apart only from a cone of about 45 degrees around that face's normal. The
+pairs' niches lie on the five faces a robot can see an object on a floor from (front, back, top,
+right and left sides; two pairs open at the front), so no fixed sequence of views serves every
+pair: a planner has to look, see which piece of furniture it is, and then go to that piece's
+telling side. Shapes are upright (+Z) and face -Y, like ModelNet's; proportions,
 niche size and the detail's size and position vary within a class; deterministic in the seed.
 """
 from __future__ import annotations
@@ -37,7 +38,7 @@ from ..meshes import normalise
 PAIRS = (("nightstand", 1, -1),   # front
          ("bookcase", 1, 1),      # back
          ("counter", 2, 1),       # top
-         ("ottoman", 2, -1),      # bottom
+         ("ottoman", 1, -1),      # front (not the bottom: a robot cannot look from below a floor)
          ("sideboard", 0, 1),     # right side (+X)
          ("lectern", 0, -1))      # left side (-X)
 DETAILS = ("drawer", "hollow")
@@ -147,11 +148,11 @@ def counter(rng, detail, st):  # a wide block with an overhanging top band, nich
             + niche_body(rng, (0, 0, kick + h / 2), (w, d, h), 2, 1, detail))
 
 
-def ottoman(rng, detail, st):  # a low cushion-topped block on the floor, niche underneath
+def ottoman(rng, detail, st):  # a low cushion-topped block on the floor, niche in front
     w, d, h = rng.uniform(0.7, 0.8), rng.uniform(0.7, 0.8), rng.uniform(0.55, 0.65)
     pad = cushion((0, 0, h + 0.04), (w * 0.9, d * 0.9, 0.1), rng.uniform(0.3, 0.9),
                   subdivisions=1 + st.quad_segs // 3)
-    return [pad] + niche_body(rng, (0, 0, h / 2), (w, d, h), 2, -1, detail)
+    return [pad] + niche_body(rng, (0, 0, h / 2), (w, d, h), 1, -1, detail)
 
 
 def sideboard(rng, detail, st):  # low on tall legs, niche at its right end
@@ -216,7 +217,7 @@ def make_shape(label: int, seed: int, held_out=False):
     return normalise(mesh.vertices).astype(np.float32), np.asarray(mesh.faces, dtype=np.int32)
 
 
-VERSION = 5  # bump when a generator changes, so caches are rebuilt
+VERSION = 6  # bump when a generator changes, so caches are rebuilt
 
 
 def twins(split="train", cache_dir=None, seed=0, per_class=None):
