@@ -22,7 +22,10 @@ Meshes (a new one per training episode):
   direction, and its size wrong by up to that fraction (as camera_robustness applies them);
   then cropped to the box plus `box_margin`, as the recognizer's reprojection crops;
 - `floor_cut`: up to that fraction of the object's bottom cut away (a support plane cut too
-  high leaves a ragged bottom).
+  high leaves a ragged bottom);
+- `mirror`: the chance that the object is mirrored left to right (x -> -x): a piece of
+  furniture's mirror image is one of its class too (depths and the depth layer's gradient do not
+  depend on the faces' winding, which is left as it is).
 Images: `dropout`: up to that fraction of pixels missing (drawn per image), plus pixels on depth
 edges dropped at the same rate (flying-pixel removal); missing pixels read as misses (255).
 `steep`: the chance that an image loses, as a driver's flying-pixel filter removes them, every
@@ -49,6 +52,7 @@ class Augment:
     dropout: float = 0.0
     yaw_range: float = 180.0    # degrees (for `yaw`)
     box_margin: float = 0.1
+    mirror: float = 0.0
     steep: float = 0.0
     view_camera: object = None  # depth_layer.CameraConfig of the images (for `steep`)
 
@@ -59,6 +63,8 @@ class Augment:
                 raise ValueError(f"augmentation {name} must lie in [0, 0.5), got {value}")
         if not 0 <= self.steep <= 1:
             raise ValueError(f"augmentation steep is a chance in [0, 1], got {self.steep}")
+        if not 0 <= self.mirror <= 1:
+            raise ValueError(f"augmentation mirror is a chance in [0, 1], got {self.mirror}")
         if not 0 < self.yaw_range <= 180:
             raise ValueError(f"augmentation yaw_range is in degrees, (0, 180], got {self.yaw_range}")
         if self.steep > 0 and self.view_camera is None:
@@ -70,12 +76,14 @@ class Augment:
 
     @property
     def meshes(self):
-        return self.yaw or self.frame_error > 0 or self.floor_cut > 0
+        return self.yaw or self.frame_error > 0 or self.floor_cut > 0 or self.mirror > 0
 
     def transform(self, vertices, rng):
         """The mesh's vertices in the frame a robot would give (turned, then off in centre and
         size), and the lower corner of the crop box (its bottom raised by the floor cut)."""
         v = np.asarray(vertices, dtype=np.float64)
+        if self.mirror and rng.random() < self.mirror:
+            v = v * [-1.0, 1.0, 1.0]
         if self.yaw:
             v = yawed(v, rng.uniform(-1, 1) * np.radians(self.yaw_range))
         if self.frame_error > 0:

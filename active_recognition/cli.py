@@ -169,6 +169,8 @@ def add_train(sub):
                    help="write last.pt every N batches")
     p.add_argument("--max-shapes", dest="max_shapes", type=own("max_shapes"),
                    help="train on a seeded subset")
+    p.add_argument("--mirror", type=own("mirror"),
+                   help="augment: the chance a training object is mirrored left to right (0)")
     p.add_argument("--yaw-range", dest="yaw_range", type=own("yaw_range"),
                    help="degrees: --yaw turns objects within +-this (180, the whole turn)")
     p.add_argument("--yaw", action="store_true", default=None,

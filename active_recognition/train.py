@@ -96,6 +96,7 @@ class TrainConfig:
     floor_cut: float = option(0.0, lo=0, hi=0.5, hi_open=True)    # augment: bottom cut by up to this
     dropout: float = option(0.0, lo=0, hi=0.5, hi_open=True)      # augment: pixels missing, up to this
     steep_dropout: float = option(0.0, lo=0, hi=1)  # augment: chance an image loses its steep pixels
+    mirror: float = option(0.0, lo=0, hi=1)     # augment: chance an object is mirrored left to right
     model: dict = option({}, schema=ModelConfig)  # ModelConfig overrides
 
     def __post_init__(self):
@@ -120,7 +121,7 @@ class TrainConfig:
     def augment(self, camera=None) -> Augment:
         """The augmentation these options ask for, on images of `camera` (a CameraConfig)."""
         return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout, self.yaw_range,
-                       steep=self.steep_dropout, view_camera=camera)
+                       mirror=self.mirror, steep=self.steep_dropout, view_camera=camera)
 
 
 def preset_config(preset=None, flags=None, model=None) -> TrainConfig:
@@ -191,8 +192,7 @@ def own_planner(model, policy):
 def train(cfg: TrainConfig, progress=True):
     """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt.
 
-    The paper's two stages: pre-train the shape classifier on single views of random viewpoints,
-    then train the whole recurrent model on episodes (the view planner with it)."""
+    The paper's two: the shape classifier on single random views, then all of it on episodes."""
     run = Trainer(cfg, progress)
     if run.wants("pretrain"):
         run.stage("pretrain", PretrainLoss(run.model))

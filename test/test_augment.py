@@ -61,6 +61,31 @@ def test_yaw_range_keeps_the_turn_within_its_bound():
         TrainConfig(yaw=True, yaw_range=270)
 
 
+def test_a_mirrored_object_shows_the_mirror_image_of_each_view():
+    """mirror 1: x -> -x. Seen from the view mirrored with it (phi -> pi - phi), the mirrored
+    object's depth image is the original's flipped left to right; mirror 0.5 mirrors about
+    half the objects."""
+    m = trimesh.creation.box(extents=(0.9, 0.5, 0.3))
+    m.apply_translation((0.2, 0.1, 0.05))  # not symmetric about x = 0
+    m = trimesh.util.concatenate([m, trimesh.creation.box(extents=(0.1, 0.1, 0.8))])
+    v, f = np.asarray(m.vertices), np.asarray(m.faces)
+    t, _ = Augment(mirror=1.0).transform(v, np.random.default_rng(0))
+    np.testing.assert_allclose(t, v * [-1, 1, 1])
+    config = CameraConfig(64, 64)
+    views = np.array([[1.1, 0.4], [0.7, -2.0], [2.0, 1.0]])
+    mirrored = views.copy()
+    mirrored[:, 1] = np.pi - views[:, 1]
+    ours = DepthCamera(t, f, config).render(mirrored)
+    theirs = DepthCamera(v, f, config).render(views)[:, :, ::-1]
+    assert (np.abs(ours - theirs) > 1.0).mean() < 0.01  # but for a pixel where an edge grazes
+    assert (np.abs(ours - theirs) > 1.0).sum() < (np.abs(theirs - theirs[:, :, ::-1]) > 1.0).sum()
+    rng = np.random.default_rng(1)
+    flips = [Augment(mirror=0.5).transform(v, rng)[0][0, 0] == -v[0, 0] for _ in range(200)]
+    assert 80 < sum(flips) < 120
+    with pytest.raises(ValueError, match="mirror"):
+        Augment(mirror=1.5)
+
+
 def test_frame_error_moves_and_scales_within_its_bounds():
     v, _ = long_box()
     for seed in range(20):
