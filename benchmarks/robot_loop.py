@@ -60,8 +60,7 @@ def run_camera(name, objects, seed, timeout):
     from rclpy.parameter_client import AsyncParameterClient
 
     from active_recognition.datasets import default_cache_dir, open_dataset
-    from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
-    from active_recognition.checkpoint import SHIPPED  # these objects are procedural
+    from active_recognition.nodes.demo import DemoClient, recognize, ros_session, shipped_checkpoint, spin_until
     from active_recognition.nodes import stop_processes
     from active_recognition.nodes.recognizer import Recognizer
 
@@ -71,7 +70,7 @@ def run_camera(name, objects, seed, timeout):
         with ros_session() as (ctx, executor):
             recognizer = Recognizer(context=ctx, namespace=name,
                                     parameter_overrides=[Parameter("seed", value=seed),
-                                                         Parameter("checkpoint", value=str(SHIPPED))])
+                                                         shipped_checkpoint()])  # procedural objects
             client = DemoClient(context=ctx, namespace=name)
             camera = AsyncParameterClient(client, f"/{name}/simulated_camera")
             for node in (recognizer, client):

@@ -36,8 +36,8 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
-from active_recognition.checkpoint import SHIPPED
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
+from active_recognition.nodes.demo import shipped_checkpoint
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
 from active_recognition.report import write_json
@@ -49,7 +49,7 @@ VGA = {"width": 640, "height": 480, "fx": 385.0, "fy": 385.0}
 HD = {"width": 1280, "height": 720, "fx": 640.0, "fy": 640.0}
 RELIABLE = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE)
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
-PROCEDURAL = Parameter("checkpoint", value=str(SHIPPED))
+PROCEDURAL = shipped_checkpoint()
 
 
 def rss_mb():

@@ -33,13 +33,13 @@ from std_srvs.srv import Trigger  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
-from active_recognition.checkpoint import SHIPPED  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
+from active_recognition.nodes.demo import shipped_checkpoint  # noqa: E402
 from active_recognition.nodes.recognizer import PARAMS, Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
-PROCEDURAL = Parameter("checkpoint", value=str(SHIPPED))
+PROCEDURAL = shipped_checkpoint()
 
 
 def info(width, height, fx, fy, cx, cy, **k):

@@ -35,10 +35,10 @@ from std_msgs.msg import String  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
-from active_recognition.checkpoint import SHIPPED  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
 from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
+from active_recognition.nodes.demo import shipped_checkpoint  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 from active_recognition.reach import ViewLimits  # noqa: E402
@@ -46,7 +46,7 @@ from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
 from active_recognition.simulated_camera import SimulatedCamera  # noqa: E402
 
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
-PROCEDURAL = Parameter("checkpoint", value=str(SHIPPED))
+PROCEDURAL = shipped_checkpoint()
 
 
 @pytest.fixture

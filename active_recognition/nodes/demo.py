@@ -59,6 +59,12 @@ class MultiThreadedExecutor(executors.MultiThreadedExecutor):
                 future.result()  # raise any exceptions
 
 
+def shipped_checkpoint(dataset="procedural"):
+    """The recognizer's `checkpoint` parameter for a dataset's shipped model (its default is the
+    ModelNet10 model: loops that show procedural or twins objects pass this)."""
+    return Parameter("checkpoint", value=str(shipped(dataset)))
+
+
 @contextmanager
 def ros_session(args=None, one_thread=False):
     """A private rclpy context and a MultiThreadedExecutor (`one_thread`: a SingleThreadedExecutor,
