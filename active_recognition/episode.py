@@ -142,7 +142,7 @@ class Episode:
     def answer(self, probs):
         """The class probabilities the episode answers, from this step's own (the model's
         readout: these, or the mean of every step's so far)."""
-        if getattr(self.model.config, "readout", "last") == "last":
+        if self.model.config.readout == "last":
             return probs
         self.probs_sum = self.probs_sum + probs
         return self.probs_sum / (self.steps + 1)
