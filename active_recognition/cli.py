@@ -19,6 +19,7 @@ import argparse
 import math
 import sys
 
+from .schedule import SCHEDULES
 from .validation import Check, InputError, SEED_MAX, arg, arg_of, output_dir, output_file
 
 SEED = arg(Check(int, lo=0, hi=SEED_MAX))
@@ -152,6 +153,8 @@ def add_train(sub):
                    help="stage 1 learning rate")
     p.add_argument("--lr-joint", dest="lr_joint", type=own("lr_joint"),
                    help="stage 2 learning rate")
+    p.add_argument("--lr-schedule", dest="lr_schedule", choices=SCHEDULES,
+                   help="each stage's learning rate: constant (default) or cosine down to 1 %%")
     p.add_argument("--lr-view-scale", dest="lr_view_scale", type=own("lr_view_scale"),
                    help="FC_loc's learning rate relative to the rest in the joint stage (1)")
     p.add_argument("--step-weighting", dest="step_weighting", choices=("uniform", "early"),

@@ -44,6 +44,7 @@ from .losses import ImitationLoss, JointLoss, PretrainLoss, ReinforceLoss
 from .model import ModelConfig, RecurrentAttention
 from .reach import ViewLimits, reach_of
 from .run_metrics import read_metrics, write_metrics
+from .schedule import SCHEDULES, lr_factor, set_lr
 from .validation import (Check, InputError, SEED_MAX, check_mapping, load_yaml, option, output_dir,
                          validate)
 
@@ -62,12 +63,11 @@ class TrainConfig:
     # learned (end to end) | reinforce | hybrid (both) | imitation
     policy: str = option("learned", choices=POLICIES)
     imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
-    # imitation: weight of FC_loc's loss toward the oracle's view (the paper's head distilled)
-    distill_loc: float = option(0.0, lo=0)
+    distill_loc: float = option(0.0, lo=0)  # imitation: FC_loc's loss toward the oracle's view (the paper's head)
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
     random_views: float = option(0.0, lo=0, hi=1)   # chance a training step looks anywhere new
-    # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame):
-    # every training view, first and later, keeps inside; the default is the whole sphere
+    # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame): every
+    # training view, first and later, keeps inside; the default is the whole sphere
     min_elevation: float = option(-90.0, lo=-90, hi=90)
     max_elevation: float = option(90.0, lo=-90, hi=90)
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
@@ -77,12 +77,12 @@ class TrainConfig:
     steps: int = option(10, lo=1, hi=100)            # views per training episode
     lr_pretrain: float = option(1e-3, lo=0, lo_open=True)  # Adam; the paper's SGD used 0.01
     lr_joint: float = option(3e-4, lo=0, lo_open=True)     # the paper: 0.001
+    lr_schedule: str = option("constant", choices=SCHEDULES)  # over each stage (schedule.py)
     view_gradient: str = option("surface", choices=GRADIENT_RULES)
     lr_view_scale: float = option(1.0, lo=0)  # FC_loc's learning rate relative to the rest (joint)
     step_weighting: str = option("uniform", choices=STEP_WEIGHTINGS)  # the joint loss's weights
-    # (dtheta, dphi) rad: FC_loc's bias when the joint stage starts
-    initial_step: list | None = option(None, kind=list, optional=True, length=(2, 2),
-                                       items=Check(float))
+    initial_step: list | None = option(None, kind=list, optional=True, length=(2, 2),  # (dtheta, dphi) rad:
+                                       items=Check(float))  # FC_loc's bias when the joint stage starts
     gradient_reduction: str = option("mean", choices=("mean", "sum"))
     eval_shapes: int = option(200, lo=0)        # validation shapes scored after each epoch (0: none)
     checkpoint_every: int = option(50, lo=1)    # batches
@@ -318,9 +318,8 @@ class Trainer:
             self.state.update(epoch=epoch + 1, batch=0)
             self.log_epoch(stage, epoch, losses, accs)
             self.save_state(opt)
-        # free DDP's reducer now: left to reference cycles it outlives destroy_process_group, and
-        # gloo's threads then abort the process at exit ("terminate called without an active
-        # exception", seen in CI)
+        # free DDP's reducer now: left to reference cycles it outlives destroy_process_group, and gloo's
+        # threads then abort the process at exit ("terminate called without an active exception", CI)
         del net, wrapper
         gc.collect()
 
@@ -338,6 +337,7 @@ class Trainer:
             checkpoint.stop_if_diverged(self.model, where, self.ckpt_path, self.saved, loss.item())
             opt.zero_grad()
             loss.backward()
+            set_lr(opt, lr_factor(cfg.lr_schedule, epoch * len(todo) + b, epochs * len(todo)))
             opt.step()
             losses.append(loss.item())
             accs.append(acc.item())

@@ -48,7 +48,7 @@ def cli_args(out, **extra):
     for k in ("pretrain_epochs", "joint_epochs", "batch_size", "max_shapes", "steps", "seed",
               "checkpoint_every", "eval_shapes"):
         args += ["--" + k.replace("_", "-"), str(cfg[k])]
-    return args
+    return args + ["--lr-schedule", "cosine"]  # a resumed run goes on along the schedule too
 
 
 def test_checkpoint_round_trip(tmp_path):
@@ -219,3 +219,29 @@ def test_resuming_a_run_of_other_options_or_without_state_is_refused(tiny_tree, 
         checkpoint.save(run / "last.pt", {**final, **bad})
         with pytest.raises(CheckpointError, match=reason):
             train(tiny(tiny_tree, run, resume=True), progress=False)
+
+
+def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_path, monkeypatch):
+    """The rate of every optimizer step, read where Adam steps, against the cosine written out."""
+    import math
+    from active_recognition.schedule import FLOOR
+    seen = []
+    adam_step = torch.optim.Adam.step
+
+    def recording(self, *a, **k):
+        seen.append([g["lr"] for g in self.param_groups])
+        return adam_step(self, *a, **k)
+    monkeypatch.setattr(torch.optim.Adam, "step", recording)
+    cfg = {**TINY, "pretrain_epochs": 2, "joint_epochs": 1, "lr_view_scale": 0.5}
+    train(TrainConfig(**cfg, lr_schedule="cosine", out=str(tmp_path / "cos")), progress=False)
+    per_stage = 30 // 6  # batches per epoch: 30 shapes in batches of 6
+    stages = [(seen[:2 * per_stage], 1e-3, 1.0), (seen[2 * per_stage:], 3e-4, 0.5)]
+    assert len(seen) == 3 * per_stage
+    for lrs, base, scale in stages:
+        n = len(lrs)
+        for i, (rest, head) in enumerate(lrs):
+            want = base * (FLOOR + (1 - FLOOR) * (1 + math.cos(math.pi * i / (n - 1))) / 2)
+            assert rest == pytest.approx(want) and head == pytest.approx(want * scale), (i, lrs)
+    seen.clear()
+    train(TrainConfig(**cfg, out=str(tmp_path / "constant")), progress=False)
+    assert {tuple(x) for x in seen} == {(1e-3, 1e-3), (3e-4, 1.5e-4)}
