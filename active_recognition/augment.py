@@ -25,7 +25,10 @@ Meshes (a new one per training episode):
   high leaves a ragged bottom);
 - `mirror`: the chance that the object is mirrored left to right (x -> -x): a piece of
   furniture's mirror image is one of its class too (depths and the depth layer's gradient do not
-  depend on the faces' winding, which is left as it is).
+  depend on the faces' winding, which is left as it is);
+- `stretch`: each axis of the object scaled by its own factor within [1/(1+s), 1+s]
+  (log-uniform), its box re-fitted: a table longer or a cabinet squatter than any seen in
+  training is one of its class too (ModelNet10's test tables are longer than its training ones).
 Images: `dropout`: up to that fraction of pixels missing (drawn per image), plus pixels on depth
 edges dropped at the same rate (flying-pixel removal); missing pixels read as misses (255).
 `steep`: the chance that an image loses, as a driver's flying-pixel filter removes them, every
@@ -39,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from .meshes import yawed
+from .meshes import normalise, yawed
 
 MISS = 255.0
 
@@ -54,10 +57,11 @@ class Augment:
     box_margin: float = 0.1
     mirror: float = 0.0
     steep: float = 0.0
+    stretch: float = 0.0
     view_camera: object = None  # depth_layer.CameraConfig of the images (for `steep`)
 
     def __post_init__(self):
-        for name in ("frame_error", "floor_cut", "dropout"):
+        for name in ("frame_error", "floor_cut", "dropout", "stretch"):
             value = getattr(self, name)
             if not 0 <= value < 0.5:
                 raise ValueError(f"augmentation {name} must lie in [0, 0.5), got {value}")
@@ -76,7 +80,8 @@ class Augment:
 
     @property
     def meshes(self):
-        return self.yaw or self.frame_error > 0 or self.floor_cut > 0 or self.mirror > 0
+        return (self.yaw or self.frame_error > 0 or self.floor_cut > 0 or self.mirror > 0
+                or self.stretch > 0)
 
     def transform(self, vertices, rng):
         """The mesh's vertices in the frame a robot would give (turned, then off in centre and
@@ -84,6 +89,8 @@ class Augment:
         v = np.asarray(vertices, dtype=np.float64)
         if self.mirror and rng.random() < self.mirror:
             v = v * [-1.0, 1.0, 1.0]
+        if self.stretch > 0:
+            v = normalise(v * np.exp(rng.uniform(-1, 1, 3) * np.log1p(self.stretch)))
         if self.yaw:
             v = yawed(v, rng.uniform(-1, 1) * np.radians(self.yaw_range))
         if self.frame_error > 0:

@@ -174,6 +174,9 @@ def add_train(sub):
                    help="train on a seeded subset")
     p.add_argument("--mirror", type=own("mirror"),
                    help="augment: the chance a training object is mirrored left to right (0)")
+    p.add_argument("--stretch", type=own("stretch"),
+                   help="augment: each axis of a training object scaled by a factor within "
+                        "[1/(1+S), 1+S], log-uniform (0)")
     p.add_argument("--yaw-range", dest="yaw_range", type=own("yaw_range"),
                    help="degrees: --yaw turns objects within +-this (180, the whole turn)")
     p.add_argument("--yaw", action="store_true", default=None,

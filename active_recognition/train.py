@@ -19,8 +19,7 @@ Stage "joint": episodes of `steps` views from the 50 initial views, cross-entrop
 backpropagation through time; FC_loc learns through the depth layer's view gradient (policy
 "learned"), by REINFORCE ("reinforce") or both ("hybrid"); with policy "imitation" FC_view learns
 to pick the candidate view the oracle picks (DAgger: a step follows the oracle or FC_view).
-Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU).
-"""
+Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU)."""
 from __future__ import annotations
 
 import gc
@@ -97,6 +96,7 @@ class TrainConfig:
     dropout: float = option(0.0, lo=0, hi=0.5, hi_open=True)      # augment: pixels missing, up to this
     steep_dropout: float = option(0.0, lo=0, hi=1)  # augment: chance an image loses its steep pixels
     mirror: float = option(0.0, lo=0, hi=1)     # augment: chance an object is mirrored left to right
+    stretch: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: axes scaled up to 1+this or down
     model: dict = option({}, schema=ModelConfig)  # ModelConfig overrides
 
     def __post_init__(self):
@@ -121,12 +121,12 @@ class TrainConfig:
     def augment(self, camera=None) -> Augment:
         """The augmentation these options ask for, on images of `camera` (a CameraConfig)."""
         return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout, self.yaw_range,
-                       mirror=self.mirror, steep=self.steep_dropout, view_camera=camera)
+                       mirror=self.mirror, steep=self.steep_dropout, stretch=self.stretch,
+                       view_camera=camera)
 
 
 def preset_config(preset=None, flags=None, model=None) -> TrainConfig:
-    """The run's TrainConfig: the YAML `preset` (if given), then the `flags` that are set (None
-    and False are unset), then `model` overrides (ModelConfig fields) that are set."""
+    """The run's TrainConfig: the YAML `preset`, then the flags set, then the model fields set."""
     values = {}
     if preset is not None:
         values = load_yaml(preset, "--config")

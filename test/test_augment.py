@@ -86,6 +86,33 @@ def test_a_mirrored_object_shows_the_mirror_image_of_each_view():
         Augment(mirror=1.5)
 
 
+def test_stretch_scales_each_axis_within_its_bounds_and_refits_the_box():
+    """stretch 0.2: each axis times its own factor in [1/1.2, 1.2], then the box re-fitted
+    (centred, longest side 1), so an extent ratio moves by at most 1.2**2 either way; over many
+    objects the factors spread across that range and their logs average about 0."""
+    v, _ = long_box()
+    v = v * [1, 2.5, 4] + [0.3, -0.1, 0.2]  # extents 1 x 0.5 x 0.8, off centre
+    base = np.ptp(v, 0)
+    logs = []
+    for seed in range(300):
+        t, _ = Augment(stretch=0.2).transform(v, np.random.default_rng(seed))
+        ext = np.ptp(t, 0)
+        assert ext.max() == pytest.approx(1.0)
+        np.testing.assert_allclose((t.max(0) + t.min(0)) / 2, 0, atol=1e-12)
+        f = ext / base  # each axis's factor, up to the common re-fit scale
+        assert f.max() / f.min() <= 1.2 ** 2 + 1e-9
+        logs.append(np.log(f / f.mean()))
+    spread = np.ptp(np.log([f.max() / f.min() for f in np.exp(logs)]))
+    assert spread > 0.5 * np.log(1.44)  # the factors really vary
+    assert abs(np.mean([x[0] - x[1] for x in logs])) < 0.02  # no axis favoured
+    same, _ = Augment().transform(v, np.random.default_rng(0))
+    np.testing.assert_array_equal(same, v)
+    with pytest.raises(ValueError, match="stretch"):
+        Augment(stretch=0.5)
+    with pytest.raises(Exception, match="stretch"):
+        TrainConfig(stretch=-0.1)
+
+
 def test_frame_error_moves_and_scales_within_its_bounds():
     v, _ = long_box()
     for seed in range(20):
