@@ -112,13 +112,22 @@ class Rollout:
         return float((final.argmax(-1) == self.labels).mean()), float(self.stopped_at.mean())
 
 
-def sample_episodes(n_objects, total, starts, seed, initial=50):
+def sample_episodes(n_objects, total, starts, seed, initial=50, pool=None):
     """(object indices, initial-view indices among `initial`) of the evaluation, the same for
-    every planner."""
+    every planner; the objects are drawn from `pool` (None: all `total`)."""
     rng = np.random.default_rng(seed)
-    objects = np.arange(total) if not n_objects else np.sort(rng.permutation(total)[:n_objects])
+    pool = np.arange(total) if pool is None else np.asarray(pool)
+    objects = pool if not n_objects else np.sort(pool[rng.permutation(len(pool))[:n_objects]])
     objects = np.repeat(objects, starts)
     return objects, rng.integers(0, initial, len(objects))
+
+
+def halves(total, seed):
+    """Seeded disjoint halves of a split's objects: (those the fixed path is picked on, those every
+    planner is scored on), for the validation split, which does both when it picks the default
+    planner: a path picked among 50 x 50 pairs on the objects it is scored on has an edge there."""
+    order = np.random.default_rng(seed + 1).permutation(total)
+    return np.sort(order[:total // 2]), np.sort(order[total // 2:])
 
 
 def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fixed_path=None):
@@ -188,11 +197,15 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         input_file(path, "checkpoint")
     out = output_dir(cfg.out, "out")
     model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
-    if cfg.objects > len(test.ds.require_objects()):
+    pool = picked_on = None  # val: the fixed path picked on one half, the planners scored on the other
+    if cfg.split == "val" and "fixed" in cfg.planners:
+        picked_on, pool = halves(len(test.ds.require_objects()), cfg.seed)
+    held = len(test.ds.require_objects()) if pool is None else len(pool)
+    if cfg.objects > held:
         raise InputError(f"objects = {cfg.objects}, but the {cfg.dataset} {cfg.split} split holds "
-                         f"{len(test)} (0 = all of them)")
+                         f"{held}{' beside the fixed path' * (pool is not None)} (0 = all of them)")
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed,
-                                      len(cfg.limits().initial_views(50)))
+                                      len(cfg.limits().initial_views(50)), pool)
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     for m in (model, *models.values()) if cfg.readout else ():
         m.config.readout = cfg.readout
@@ -207,7 +220,8 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
                             progress=progress)
         if "fixed" in cfg.planners:  # chosen on the validation split, which the judge never saw
             from .view_sets import fixed_path
-            fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits())
+            fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits(),
+                                        indices=picked_on)
             if progress:
                 print(f"fixed path {np.round(fixed, 3).tolist()} (shared-classifier accuracy "
                       f"{val_acc:.3f} on the validation split)", flush=True)

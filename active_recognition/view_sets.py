@@ -77,16 +77,17 @@ def best_subset_accuracy(net, features, labels, size=3):
     return float(np.mean(hits))
 
 
-def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None):
-    """The best fixed path on (a seeded sample of) `shapes`, the validation split: the two
-    candidate views (theta, phi), (2, 2), that the shared classifier scores best after a random
-    first view, among the candidates within `limits` (reach.ViewLimits; None: all).
+def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None, indices=None):
+    """The best fixed path on (a seeded sample of, or the `indices` of) `shapes`, the validation
+    split: the two candidate views (theta, phi), (2, 2), that the shared classifier scores best
+    after a random first view, among the candidates within `limits` (reach.ViewLimits; None: all).
     -> (path, its accuracy there)."""
     views = geometry.fibonacci_views(candidates)
     if limits is not None:
         views = limits.initial_views(candidates)
     rng = np.random.default_rng(seed)
-    idx = np.sort(rng.permutation(len(shapes))[:objects])
+    idx = np.asarray(indices) if indices is not None else np.sort(
+        rng.permutation(len(shapes))[:objects])
     feats = candidate_features(net, shapes, idx, views)
     pair, acc = best_fixed_views(net, feats, shapes.labels[idx])
     return views[pair], acc

@@ -18,7 +18,8 @@ privileged oracle; each with its own recurrent classifier and with one shared mu
 classifier, the standard error of every 3-view figure, and the wall-clock for `learned` to reach
 the best accuracy `reinforce` reaches, over reinforce's time. The default planner (`--ship` records
 it in the shipped model, for the recognizer's `auto`) is chosen on the validation split
-(docs/results/<dataset>/val/), before the test split is read.
+(docs/results/<dataset>/val/), before the test split is read: there the fixed path is picked on
+a seeded half of the objects and every planner is scored on the other half.
 Writes the report under docs/results/ (docs/results/<dataset>/ for other datasets than
 procedural, docs/results/<dataset>-cross/ for `--split cross`, the held-out styles) and
 re-renders docs/RESULTS.md. Last line is JSON."""

@@ -272,3 +272,31 @@ def test_results_page_puts_modelnet10_beside_the_papers_table(results, tmp_path)
     assert f"| straight | {100 * s['acc']['straight']['3']:.1f} |" in text
     assert f"| c0 | {100 * s['per_class_3']['learned'][0]:.1f} |" in text
     assert "chosen on the validation split): `straight`" in text
+
+
+def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(results, monkeypatch):
+    """The default planner is chosen on val, where the fixed path is picked too: the path gets
+    one seeded half of the objects, every planner's episodes the other half, together all."""
+    import active_recognition.shared_classifier as shared
+    import active_recognition.view_sets as view_sets
+    _, cfg, tmp = results
+    seen = {}
+
+    def path_on(net, shapes, seed=0, limits=None, indices=None, **kw):
+        seen["raw"], seen["total"] = indices, len(shapes)
+        return geometry.fibonacci_views(50)[[3, 7]], 0.5
+
+    monkeypatch.setattr(view_sets, "fixed_path", path_on)
+    monkeypatch.setattr(shared, "load_or_train", lambda *a, **k: None)
+    val = replace(cfg, split="val", planners=("random", "fixed"), objects=0, starts=1,
+                  trajectory_figures=0, out=str(tmp / "val"))
+    res = evaluate(val, progress=False)
+    scored, picked = set(res["fixed"].objects.tolist()), set(np.asarray(seen["raw"]).tolist())
+    assert not scored & picked
+    assert scored | picked == set(range(seen["total"]))
+    assert abs(len(scored) - len(picked)) <= 1
+    np.testing.assert_array_equal(res["random"].objects, res["fixed"].objects)
+    with pytest.raises(InputError, match="beside the fixed path"):
+        evaluate(replace(val, objects=len(scored) + 1), progress=False)
+    evaluate(replace(cfg, planners=("fixed",), out=str(tmp / "t")), progress=False)
+    assert seen["raw"] is None  # on test, the path is picked on the validation split's sample
