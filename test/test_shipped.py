@@ -100,7 +100,8 @@ def test_shipped_checkpoint_matches_the_readme_figure():
 
 
 @pytest.mark.parametrize("dataset,marker", [("procedural", "shipped-minutes"),
-                                            ("twins", "twins-minutes")])
+                                            ("twins", "twins-minutes"),
+                                            ("modelnet", "modelnet10-minutes")])
 def test_the_readme_training_time_is_the_one_the_checkpoint_recorded(dataset, marker):
     """The README's minutes are the shipped run's own clock (the checkpoint's `elapsed`)."""
     elapsed = checkpoint.read(checkpoint.shipped(dataset))["elapsed"]
