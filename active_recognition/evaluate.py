@@ -32,7 +32,7 @@ from .datasets import NAMES, SPLITS, default_cache_dir, open_dataset, open_split
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
-from .policies import PLANNERS, make_planner
+from .policies import FIXED, PLANNERS, make_planner
 from .reach import ViewLimits, reach_of
 from .report import write_report
 from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
@@ -198,7 +198,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     out = output_dir(cfg.out, "out")
     model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
     pool = picked_on = None  # val: the fixed path picked on one half, the planners scored on the other
-    if cfg.split == "val" and "fixed" in cfg.planners:
+    if cfg.split == "val" and set(FIXED) & set(cfg.planners):
         picked_on, pool = halves(len(test.ds.require_objects()), cfg.seed)
     held = len(test.ds.require_objects()) if pool is None else len(pool)
     if cfg.objects > held:
@@ -212,13 +212,14 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
         make_planner("imitation", model=models.get("imitation") or model)
     net = fixed = None
-    if cfg.shared or "fixed" in cfg.planners:  # the neutral judge; it also finds the fixed path
+    follow = any(p in FIXED for p in cfg.planners)  # a planner needs the fixed path
+    if cfg.shared or follow:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
         parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())
         train, val = (Shapes(parts[s], test.camera, cfg.yaw, cfg.seed) for s in ("train", "val"))
         net = load_or_train(Path(cfg.judge or out / "shared_classifier.pt"), train, classes, seed=cfg.seed,
                             progress=progress)
-        if "fixed" in cfg.planners:  # chosen on the validation split, which the judge never saw
+        if follow:  # chosen on the validation split, which the judge never saw
             from .view_sets import fixed_path
             fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits(),
                                         indices=picked_on)
@@ -229,7 +230,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     for name in cfg.planners:
         results[name] = rollout(name, models.get(name) or model, test, objects, starts, cfg,
                                 fixed_path=fixed)
-        results[name].path = fixed if name == "fixed" else None
+        results[name].path = fixed if name in FIXED else None
         if progress:
             print(f"{name}: accuracy after 1..{cfg.steps} views "
                   f"{np.round(results[name].accuracy(), 3).tolist()}", flush=True)
@@ -274,8 +275,9 @@ def summary(results):
         s["stderr_3"] = {n: standard_error(ro) for n, ro in results.items()}
     if three:  # accuracy per class after 3 views, in the order of the classes
         s["per_class_3"] = {n: [round(float(v), 4) for v in per_class(ro)] for n, ro in results.items()}
-    if "fixed" in results and results["fixed"].path is not None:
-        s["fixed_path"] = np.round(results["fixed"].path, 6).tolist()
+    paths = [ro.path for ro in results.values() if ro.path is not None]
+    if paths:
+        s["fixed_path"] = np.round(paths[0], 6).tolist()
     if all(ro.shared_probs is not None for ro in results.values()):
         s["acc_shared"] = {n: at(ro, True) for n, ro in results.items()}
         if three:

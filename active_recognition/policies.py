@@ -27,6 +27,9 @@ fixed      -- the best fixed path: after the first view, the views (fixed in the
               random views; the honest test of whether a planner adapts
 imitation  -- FC_view of a model trained to imitate the oracle (train --policy imitation): the
               best-scored candidate view not yet visited; needs no mesh and renders nothing
+fixed+imitation -- the best fixed path's views first, then imitation's: the views known to
+              pay in the object frame, then the ones the model's view head picks from what the
+              path showed (needs no mesh either)
 oracle     -- PRIVILEGED upper bound, and the teacher imitation learns from: knows the label,
               renders every candidate view of the object and takes the unvisited one after which
               the model's own classifier gives the true class the highest probability
@@ -44,7 +47,9 @@ import torch
 from . import geometry
 from .validation import InputError
 
-PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle", "greedy")
+PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "fixed+imitation",
+            "oracle", "greedy")
+FIXED = ("fixed", "fixed+imitation")  # the planners that follow the best fixed path
 PRIVILEGED = ("oracle", "greedy")  # they render the object's mesh: not for a robot
 
 
@@ -72,16 +77,17 @@ class StraightPlanner:
 
 
 class FixedPlanner:
-    """The views `path` (k, 2) after the first, the same for every object; then random views."""
+    """The views `path` (k, 2) after the first, the same for every object; then the planner
+    `then` (default: random views)."""
 
-    def __init__(self, path, seed=0):
+    def __init__(self, path, seed=0, then=None):
         self.path = np.asarray(path, dtype=np.float64).reshape(-1, 2)
-        self.random = RandomPlanner(seed)
+        self.then = then or RandomPlanner(seed)
 
     def next_view(self, episode, step):
         if episode.steps <= len(self.path):
             return np.repeat(self.path[episode.steps - 1][None], len(episode.view), 0)
-        return self.random.next_view(episode, step)
+        return self.then.next_view(episode, step)
 
 
 def reachable(episode, candidates):
@@ -231,15 +237,15 @@ def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_pa
         return RandomPlanner(seed)
     if name == "straight":
         return StraightPlanner()
+    if name in ("imitation", "fixed+imitation") and model is None:
+        raise InputError(f"the {name} planner needs its model")
     if name == "imitation":
-        if model is None:
-            raise InputError("the imitation planner needs its model")
         return ImitationPlanner(model)
-    if name == "fixed":
+    if name in FIXED:
         if fixed_path is None:
-            raise InputError("the fixed planner needs its path (view_sets.fixed_path, or a "
-                             "checkpoint that carries 'fixed_path')")
-        return FixedPlanner(fixed_path, seed)
+            raise InputError(f"the {name} planner needs its path (the fixed path: "
+                             f"view_sets.fixed_path, or a checkpoint that carries 'fixed_path')")
+        return FixedPlanner(fixed_path, seed, ImitationPlanner(model) if name != "fixed" else None)
     if cameras is None:
         raise InputError(f"the {name} planner needs the objects' cameras (it is privileged)")
     if name == "greedy":

@@ -198,6 +198,37 @@ def test_fixed_planner_follows_its_path_then_looks_at_random():
         make_planner("fixed")
 
 
+def test_fixed_then_imitation_follows_the_path_then_fc_views_best_unvisited_candidate():
+    """fixed+imitation: the path's views, then FC_view's best-scored candidate among those not
+    visited, the path's own views (snapped to their candidates) counted as visited."""
+    model = small_model()
+    cands = geometry.fibonacci_views(10)
+    path = cands[[4, 7]]
+    planner = make_planner("fixed+imitation", model=model, fixed_path=path)
+    ep = Episode(model, EpisodeConfig(max_views=8, entropy_threshold=0.0), planner)
+    ep.reset(torch.as_tensor(cands[[2, 5]], dtype=torch.float32))
+    seen = [{2}, {5}]
+    torch.manual_seed(4)
+    with torch.no_grad():
+        for t in range(7):
+            step = ep.step(torch.rand(2, 64, 64) * 255)
+            if t < 2:
+                np.testing.assert_allclose(step.next_view.numpy(), [path[t]] * 2, atol=1e-6)
+                for b in range(2):
+                    seen[b].add([4, 7][t])
+                continue
+            scores = model.score_views(ep.hidden)
+            for b in range(2):
+                order = [int(k) for k in torch.argsort(scores[b], descending=True)]
+                best = next(k for k in order if k not in seen[b])
+                np.testing.assert_allclose(step.next_view[b].numpy(), cands[best], atol=1e-6)
+                seen[b].add(best)
+    with pytest.raises(ValueError, match="fixed path"):
+        make_planner("fixed+imitation", model=model)
+    with pytest.raises(ValueError, match="needs its model"):
+        make_planner("fixed+imitation", fixed_path=path)
+
+
 def test_imitation_targets_are_the_candidates_after_which_the_true_class_is_likeliest():
     model = small_model(candidates=6)
     loss = ImitationLoss(model, steps=2)

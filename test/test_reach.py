@@ -59,7 +59,8 @@ def small_model(candidates=10):
                                           candidates=candidates)).eval()
 
 
-PLANNERS = ["learned", "reinforce", "random", "straight", "fixed", "imitation", "oracle", "greedy"]
+PLANNERS = ["learned", "reinforce", "random", "straight", "fixed", "imitation", "fixed+imitation",
+            "oracle", "greedy"]
 
 
 def views_of(name, reach, steps=12):

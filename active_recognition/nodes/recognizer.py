@@ -53,7 +53,7 @@ INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
 PARAMS = {  # name: (default, type, description)
     "checkpoint": ("", STR, "model file; empty = the shipped ModelNet10 model (real furniture)"),
     "planner": ("auto", STR, "next-view planner: auto (the checkpoint's best), learned, random, "
-                             "straight, reinforce, fixed or imitation"),
+                             "straight, reinforce, fixed, imitation or fixed+imitation"),
     "entropy_threshold": (0.1, DBL, "stop below this entropy (nats)"),
     "max_views": (10, INT, "stop after this many views"),
     "seed": (0, INT, "seed of the random initial views"),
