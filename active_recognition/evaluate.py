@@ -197,10 +197,12 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         input_file(path, "checkpoint")
     out = output_dir(cfg.out, "out")
     model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
+    follow = any(p in FIXED for p in cfg.planners)  # a planner needs the fixed path
+    total = len(test.ds.require_objects())
     pool = picked_on = None  # val: the fixed path picked on one half, the planners scored on the other
-    if cfg.split == "val" and set(FIXED) & set(cfg.planners):
-        picked_on, pool = halves(len(test.ds.require_objects()), cfg.seed)
-    held = len(test.ds.require_objects()) if pool is None else len(pool)
+    if cfg.split == "val" and follow:
+        picked_on, pool = halves(total, cfg.seed)
+    held = total if pool is None else len(pool)
     if cfg.objects > held:
         raise InputError(f"objects = {cfg.objects}, but the {cfg.dataset} {cfg.split} split holds "
                          f"{held}{' beside the fixed path' * (pool is not None)} (0 = all of them)")
@@ -212,7 +214,6 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
         make_planner("imitation", model=models.get("imitation") or model)
     net = fixed = None
-    follow = any(p in FIXED for p in cfg.planners)  # a planner needs the fixed path
     if cfg.shared or follow:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train
         parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())

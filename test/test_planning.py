@@ -160,6 +160,17 @@ def test_view_input_makes_the_state_depend_on_where_the_image_was_taken():
     torch.testing.assert_close(wrapped, direct, atol=1e-5, rtol=1e-5)
 
 
+def took_best_unvisited(model, ep, step, cands, seen):
+    """Each object's next view is FC_view's best-scored candidate not in its `seen` set (by
+    brute force over the scores), which then joins the set."""
+    scores = model.score_views(ep.hidden)
+    for b in range(len(seen)):
+        order = [int(k) for k in torch.argsort(scores[b], descending=True)]
+        best = next(k for k in order if k not in seen[b])
+        np.testing.assert_allclose(step.next_view[b].numpy(), cands[best], atol=1e-6)
+        seen[b].add(best)
+
+
 def test_imitation_planner_takes_the_best_unvisited_candidate():
     model = small_model()
     planner = ImitationPlanner(model)
@@ -172,12 +183,7 @@ def test_imitation_planner_takes_the_best_unvisited_candidate():
         for _ in range(9):
             before = ep.hidden.clone()
             step = ep.step(torch.rand(2, 64, 64) * 255)
-            scores = model.score_views(ep.hidden)
-            for b in range(2):
-                order = [int(k) for k in torch.argsort(scores[b], descending=True)]
-                best = next(k for k in order if k not in seen[b])
-                np.testing.assert_allclose(step.next_view[b].numpy(), cands[best], atol=1e-6)
-                seen[b].add(best)
+            took_best_unvisited(model, ep, step, cands, seen)
             assert not torch.equal(before, ep.hidden)
     assert all(len(s) == 10 for s in seen)  # ten views, ten different candidates: no revisit
     with pytest.raises(ValueError, match="view-scoring head"):
@@ -217,12 +223,7 @@ def test_fixed_then_imitation_follows_the_path_then_fc_views_best_unvisited_cand
                 for b in range(2):
                     seen[b].add([4, 7][t])
                 continue
-            scores = model.score_views(ep.hidden)
-            for b in range(2):
-                order = [int(k) for k in torch.argsort(scores[b], descending=True)]
-                best = next(k for k in order if k not in seen[b])
-                np.testing.assert_allclose(step.next_view[b].numpy(), cands[best], atol=1e-6)
-                seen[b].add(best)
+            took_best_unvisited(model, ep, step, cands, seen)
     with pytest.raises(ValueError, match="fixed path"):
         make_planner("fixed+imitation", model=model)
     with pytest.raises(ValueError, match="needs its model"):
