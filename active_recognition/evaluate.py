@@ -211,8 +211,9 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     for m in (model, *models.values()) if cfg.readout else ():
         m.config.readout = cfg.readout
-    if "imitation" in cfg.planners:  # its model needs FC_view: refuse now, not after the judge
-        make_planner("imitation", model=models.get("imitation") or model)
+    for name in ("imitation", "fixed+imitation"):  # FC_view needed: refuse now, not after the judge
+        if name in cfg.planners:
+            make_planner("imitation", model=models.get(name) or model)
     net = fixed = None
     if cfg.shared or follow:  # the neutral judge; it also finds the fixed path
         from .shared_classifier import load_or_train

@@ -300,3 +300,19 @@ def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(resu
         evaluate(replace(val, objects=len(scored) + 1), progress=False)
     evaluate(replace(cfg, planners=("fixed",), out=str(tmp / "t")), progress=False)
     assert seen["raw"] is None  # on test, the path is picked on the validation split's sample
+
+
+def test_a_model_without_a_view_head_is_refused_before_the_judge_trains(results, monkeypatch):
+    """imitation and fixed+imitation need FC_view: a model without one is refused at once, not
+    after minutes of training the shared classifier that finds the fixed path."""
+    import active_recognition.shared_classifier as shared
+    _, cfg, tmp = results
+
+    def trains(*a, **k):
+        raise AssertionError("the judge was trained before the refusal")
+
+    monkeypatch.setattr(shared, "load_or_train", trains)
+    for name in ("imitation", "fixed+imitation"):
+        with pytest.raises(InputError, match="view-scoring head"):
+            evaluate(replace(cfg, planners=(name,), shared=True, out=str(tmp / "nohead")),
+                     progress=False)
