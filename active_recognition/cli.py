@@ -114,7 +114,7 @@ def written_checkpoints(out):
 
 def add_train(sub):
     from .datasets import NAMES
-    from .model import ModelConfig
+    from .model import READOUTS, ModelConfig
     from .train import TrainConfig
 
     def own(name):
@@ -213,9 +213,10 @@ def add_train(sub):
     p.add_argument("--memory", choices=("rnn", "rnn+max"),
                    help="the state the heads read: the RNN's (the paper), or beside it the running "
                         "maximum of the image features seen (rnn+max)")
-    p.add_argument("--readout", choices=("last", "mean"),
+    p.add_argument("--readout", choices=READOUTS,
                    help="the answer after t views: FC_class on the last state (last, the paper), "
-                        "or the mean of every step's class probabilities (mean)")
+                        "the mean of every step's class probabilities (mean), or that mean with "
+                        "each step's averaged with its mirror image's (mean+mirror)")
     p.add_argument("--candidates", type=arg_of(ModelConfig, "candidates"),
                    help="size of FC_view, the head scoring candidate views (imitation; 0 = none)")
     p.set_defaults(func=cmd_train)
@@ -277,6 +278,7 @@ def cmd_evaluate(args):
 def add_evaluate(sub):
     from .datasets import NAMES
     from .evaluate import EvalConfig
+    from .model import READOUTS
     from .policies import PLANNERS
 
     def own(name):
@@ -310,9 +312,10 @@ def add_evaluate(sub):
                         "(-90: the whole sphere, the paper's)")
     p.add_argument("--max-elevation", type=own("max_elevation"), default=90.0,
                    help="degrees: views from no higher")
-    p.add_argument("--readout", choices=("last", "mean"), default=None,
-                   help="the answer after t views: the last step's (last) or the mean of every "
-                        "step's class probabilities (mean); default each model's own")
+    p.add_argument("--readout", choices=READOUTS, default=None,
+                   help="the answer after t views: the last step's (last), the mean of every "
+                        "step's class probabilities (mean), or that mean with each step's "
+                        "averaged with its mirror image's (mean+mirror); default each model's own")
     p.add_argument("--yaw", type=own("yaw"), default=0.0,
                    help="degrees: turn every object by its own seeded yaw within +-this (0)")
     p.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")

@@ -77,6 +77,7 @@ class Episode:
             self.reach.reset()
             self.view = self.reach.limits.clamp(self.view)
         self.hidden = self.model.init_hidden(len(self.view), device)
+        self.mirror_hidden = self.hidden  # the mirrored world's state (readout mean+mirror)
         self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
         self.probs_sum = 0.0  # of every step's own class probabilities (readout mean)
         self.requested = []  # views asked for but taken elsewhere (a robot's arm): (B, 2) each
@@ -104,8 +105,14 @@ class Episode:
             self.views[-1] = self.view
         depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
         depth = depth.reshape(len(self.view), *depth.shape[-2:])
-        logits, delta, self.hidden = (self.forward or self.model)(depth, self.hidden, self.view)
-        probs = self.answer(logits.softmax(-1))
+        forward = self.forward or self.model
+        logits, delta, self.hidden = forward(depth, self.hidden, self.view)
+        probs = logits.softmax(-1)
+        if self.model.config.readout.endswith("+mirror") and not self.model.training:
+            flipped, _, self.mirror_hidden = forward(depth.flip(-1), self.mirror_hidden,
+                                                     mirrored(self.view))
+            probs = (probs + flipped.softmax(-1)) / 2
+        probs = self.answer(probs)
         h = entropy(probs)
         prev = self.entropies[-1] if self.entropies else torch.full_like(h, math.log(probs.shape[-1]))
         self.info_gain.append((prev - h).detach())
@@ -158,6 +165,13 @@ class Episode:
         self.view = torch.as_tensor(view, dtype=torch.float32,
                                     device=self.view.device).reshape(self.view.shape)
         self.views[-1] = self.view
+
+
+def mirrored(view):
+    """The view (B, 2) of the object mirrored x -> -x from which it looks as the image flipped
+    left to right looks from `view`: (theta, pi - phi)."""
+    theta, phi = wrap_view(view[:, 0], math.pi - view[:, 1])
+    return torch.stack([theta, phi], -1)
 
 
 def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean",

@@ -32,6 +32,7 @@ from .datasets import NAMES, SPLITS, default_cache_dir, open_dataset, open_split
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
+from .model import READOUTS
 from .policies import FIXED, PLANNERS, make_planner
 from .reach import ViewLimits, reach_of
 from .report import write_report
@@ -69,8 +70,8 @@ class EvalConfig:
     # degrees: every object turned about z by its own seeded yaw within +-this, its box re-fitted
     # (a detector that knows the heading only roughly; the fixed path and the judge see it too)
     yaw: float = option(0.0, lo=0, hi=180)
-    # the answer after t views (ModelConfig.readout: last or mean); None: each model's own
-    readout: str | None = option(None, kind=str, optional=True, choices=("last", "mean"))
+    # the answer after t views (ModelConfig.readout: last, mean or mean+mirror); None: each model's own
+    readout: str | None = option(None, kind=str, optional=True, choices=READOUTS)
 
     def __post_init__(self):
         validate(self)

@@ -33,6 +33,7 @@ from .geometry import unit_position
 from .validation import option, validate
 
 ENCODERS = ("compact", "wide", "alexnet")
+READOUTS = ("last", "mean", "mean+mirror")
 INPUT_SIZE = {"compact": 64, "wide": 64, "alexnet": 227}
 
 
@@ -54,8 +55,12 @@ class ModelConfig:
     # the answer after t views: FC_class on the last state (last, the paper), or the mean of the
     # class probabilities of every step so far (mean: each view's answer counts, so a late view
     # that misleads cannot overturn what the earlier ones agreed on). Training reads each step's
-    # own logits either way; the readout is what an episode answers and stops on
-    readout: str = option("last", choices=("last", "mean"))
+    # own logits either way; the readout is what an episode answers and stops on. mean+mirror:
+    # each step's probabilities are averaged with those of its mirror image, the image flipped
+    # left to right read as the view (theta, pi - phi) of the object mirrored x -> -x, carried in
+    # an RNN state of its own (test-time augmentation for a model trained with mirrored shapes,
+    # in eval mode only: training reads each step's own logits; twice the encoder's work a frame)
+    readout: str = option("last", choices=READOUTS)
 
     def __post_init__(self):
         validate(self)

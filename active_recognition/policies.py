@@ -30,9 +30,12 @@ imitation  -- FC_view of a model trained to imitate the oracle (train --policy i
 fixed+imitation -- the best fixed path's views first, then imitation's: the views known to
               pay in the object frame, then the ones the model's view head picks from what the
               path showed (needs no mesh either)
-oracle     -- PRIVILEGED upper bound, and the teacher imitation learns from: knows the label,
-              renders every candidate view of the object and takes the unvisited one after which
-              the model's own classifier gives the true class the highest probability
+oracle     -- PRIVILEGED upper bound: knows the label, renders every candidate view of the
+              object and takes the unvisited one after which the episode's answer (the model's
+              readout) puts the true class furthest above the strongest other class, so an
+              answer once right stays right wherever some view keeps it so. Imitation learns
+              from its teacher (teacher_choice): the candidate after which the step's own
+              classifier gives the true class the highest probability
 greedy     -- PRIVILEGED, without the label: renders every candidate and takes the one whose next
               prediction has the least entropy (it may look again where it has looked; it was
               called `oracle` before issue #22)
@@ -167,26 +170,51 @@ def teacher_choice(model, features, hidden, labels, views, visited):
         return true.argmax(1)
 
 
+def answer_margins(episode, features, views, labels, mirror_features=None):
+    """(B, K): by how much the episode's answer after one more step, taken at each candidate,
+    puts the true class above the strongest other (negative: the answer would be wrong).
+    features (B, K, F) of the candidates (mirror_features: of their images flipped, for the
+    readout mean+mirror), views (K, 2), labels (B,)."""
+    from .episode import mirrored
+    model = episode.model
+    with torch.no_grad():
+        p = lookahead_logits(model, features, episode.hidden, views).softmax(-1)      # (B, K, C)
+        if mirror_features is not None:
+            flipped = mirrored(torch.as_tensor(views, dtype=torch.float32))
+            p = (p + lookahead_logits(model, mirror_features, episode.mirror_hidden,
+                                      flipped).softmax(-1)) / 2
+        if model.config.readout != "last":  # the mean of every step's, this one's included
+            p = (episode.probs_sum[:, None] + p) / (episode.steps + 1)
+        index = labels[:, None, None].expand(-1, p.shape[1], 1)
+        return p.gather(2, index)[..., 0] - p.scatter(2, index, -1.0).amax(2)
+
+
 class CandidateFeatures:
-    """The encoder features of every candidate view of each object, computed once (the
-    candidates' images are the same at every step): the privileged planners' look-ahead."""
+    """The encoder features of every candidate view of each object (or of their images flipped
+    left to right), computed once (the candidates' images are the same at every step): the
+    privileged planners' look-ahead."""
 
     def __init__(self, cameras, candidates=50):
         self.cameras = cameras
         self.candidates = geometry.fibonacci_views(candidates)
         self.features = {}
 
-    def of(self, model, i, device):
-        if i not in self.features:
+    def of(self, model, i, device, flipped=False):
+        if (i, flipped) not in self.features:
             depth = torch.from_numpy(self.cameras[i].render(self.candidates))          # (K, H, W)
             with torch.no_grad():
-                self.features[i] = model.features(depth.to(device))
-        return self.features[i]
+                self.features[i, flipped] = model.features(
+                    (depth.flip(-1) if flipped else depth).to(device))
+        return self.features[i, flipped]
+
+    def all(self, model, device, flipped=False):
+        """(B, K, F): every object's candidate features."""
+        return torch.stack([self.of(model, i, device, flipped) for i in range(len(self.cameras))])
 
 
 class OraclePlanner(CandidateFeatures):
-    """PRIVILEGED: the unvisited candidate after which the true class is likeliest (knows the
-    label, renders the object): the upper bound of one-step planning, and imitation's teacher."""
+    """PRIVILEGED: the unvisited candidate after which the episode's answer is right by the
+    widest margin (knows the label, renders the object): the upper bound of one-step planning."""
 
     privileged = True
 
@@ -195,15 +223,17 @@ class OraclePlanner(CandidateFeatures):
         self.labels = torch.as_tensor(np.asarray(labels), dtype=torch.long)
 
     def next_view(self, episode, step):
-        device = episode.view.device
-        feats = torch.stack([self.of(episode.model, i, device) for i in range(len(self.cameras))])
+        model, device = episode.model, episode.view.device
+        mirror = model.config.readout.endswith("+mirror")
         barred = unavailable(episode, self.candidates)
-        spent = barred.all(1)  # every reachable candidate seen: the teacher has nothing new
+        spent = barred.all(1)  # every reachable candidate seen: the oracle has nothing new
         out = ~reachable(episode, self.candidates)
         barred[spent] = out if not out.all() else False
-        pick = teacher_choice(episode.model, feats, episode.hidden, self.labels.to(device),
-                              self.candidates, barred)
-        return self.candidates[pick.cpu().numpy()]
+        margin = answer_margins(episode, self.all(model, device), self.candidates,
+                                self.labels.to(device),
+                                self.all(model, device, flipped=True) if mirror else None)
+        margin[torch.as_tensor(barred, device=device)] = -math.inf
+        return self.candidates[margin.argmax(1).cpu().numpy()]
 
 
 class GreedyPlanner(CandidateFeatures):

@@ -25,6 +25,7 @@ from pathlib import Path
 from common import emit, results_dir
 
 from active_recognition.evaluate import EvalConfig, evaluate, summary
+from active_recognition.model import READOUTS
 from active_recognition.report import write_json
 
 
@@ -36,7 +37,7 @@ def main():
     ap.add_argument("--objects", type=int, default=352, help="validation objects (seeded draw)")
     ap.add_argument("--starts", type=int, default=2, help="initial views per object")
     ap.add_argument("--planners", default="learned,random,straight,imitation")
-    ap.add_argument("--readout", choices=("last", "mean"), default=None,
+    ap.add_argument("--readout", choices=READOUTS, default=None,
                     help="every model's answer after t views (default: each model's own)")
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")

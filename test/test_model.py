@@ -158,6 +158,58 @@ def test_the_mean_readout_answers_the_mean_of_every_steps_own_probabilities():
         ModelConfig(readout="vote")
 
 
+def an_asymmetric_object():
+    """A box with a cylinder off to one side: its mirror image x -> -x is another object."""
+    box = trimesh.creation.box(extents=[0.8, 0.5, 0.4])
+    post = trimesh.creation.cylinder(radius=0.1, height=0.7)
+    post.apply_translation([0.3, 0.15, 0.2])
+    return trimesh.util.concatenate([box, post])
+
+
+def mirror_episode(model, camera, views):
+    """Answers of an episode (readout mean+mirror) on `camera` from `views` (T, 2) in turn."""
+    ep = Episode(model, EpisodeConfig(max_views=len(views), entropy_threshold=0.0),
+                 FixedPlanner(views[1:]))
+    with torch.no_grad():
+        return [s.probs for s in run(ep, [camera], views[:1])]
+
+
+def test_the_mirror_readout_averages_each_view_with_the_mirrored_objects_and_is_symmetric():
+    """readout mean+mirror: after t views the answer is the mean over the steps of the average of
+    two independent runs of the model: one on the object, one on its mirror image (x -> -x,
+    a separate mesh, rendered) seen from the mirrored views (theta, pi - phi). Run on the mirror
+    image, the same episode answers the same: the two runs swap."""
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=4, hidden_size=16, memory="rnn+max",
+                                           view_input=True, readout="mean+mirror")).eval()
+    mesh = an_asymmetric_object()
+    flipped = mesh.copy()
+    flipped.vertices = flipped.vertices * [-1.0, 1.0, 1.0]
+    config = CameraConfig(64, 64, radius=1.5)
+    camera, mirror_camera = DepthCamera.from_mesh(mesh, config), DepthCamera.from_mesh(flipped, config)
+    views = np.array([[1.0, 0.4], [2.0, -1.3], [0.6, 2.8], [1.7, 1.0]])
+    mirror_views = np.stack([views[:, 0], np.pi - views[:, 1]], 1)
+
+    def own(cam, vs):
+        state, out = model.init_hidden(1), []
+        with torch.no_grad():
+            for v in vs:
+                view = torch.tensor(v[None], dtype=torch.float32)
+                logits, _, state = model(torch.from_numpy(cam.render(v[None])).float(), state, view)
+                out.append(logits.softmax(-1))
+        return out
+    both = [(a + b) / 2 for a, b in zip(own(camera, views), own(mirror_camera, mirror_views))]
+    answers = mirror_episode(model, camera, views)
+    for t, probs in enumerate(answers):
+        torch.testing.assert_close(probs, torch.stack(both[:t + 1]).mean(0), atol=1e-5, rtol=1e-4)
+    for a, b in zip(answers, mirror_episode(model, mirror_camera, mirror_views)):
+        torch.testing.assert_close(a, b, atol=1e-5, rtol=1e-4)
+    plain = torch.stack(own(camera, views)).mean(0)
+    assert not torch.allclose(answers[-1], plain, atol=1e-4)
+    model.train()  # training reads each step's own (compact: no layer acts otherwise in training)
+    torch.testing.assert_close(mirror_episode(model, camera, views)[-1], plain, atol=1e-5, rtol=1e-4)
+
+
 class Scripted(torch.nn.Module):
     """A model that answers a given list of logits, one per step."""
 

@@ -250,6 +250,42 @@ def test_imitation_targets_are_the_candidates_after_which_the_true_class_is_like
             assert int(target[b]) == int(np.argmin(ce))
 
 
+@pytest.mark.parametrize("readout", ["last", "mean", "mean+mirror"])
+def test_the_oracle_takes_the_unvisited_candidate_after_which_the_answer_is_right_by_most(readout):
+    """For each object, a copy of the episode steps through every candidate's own render: the
+    oracle's next view is the unvisited one after which the episode's answer (its readout) puts
+    the true class furthest above the strongest other."""
+    import copy
+
+    from active_recognition.episode import run
+    model = small_model(candidates=8)
+    model.config.readout = readout
+    with torch.no_grad():  # sure answers that differ from view to view
+        model.classify.weight.mul_(3)
+    cams = [DepthCamera(*make_shape(c, seed)) for c, seed in ((0, 3), (1, 5), (4, 2))]
+    labels = np.array([0, 2, 1])
+    oracle = make_planner("oracle", cams, candidates=8, labels=labels)
+    cands = geometry.fibonacci_views(8)
+    ep = Episode(model, EpisodeConfig(max_views=3, entropy_threshold=0.0), oracle)
+    with torch.no_grad():
+        run(ep, cams, cands[[0, 3, 5]], steps=2)
+    views = torch.stack(ep.views).numpy()                                      # (3, B, 2)
+    for b, cam in enumerate(cams):
+        seen = set(nearest_candidates(views[:2, b], cands))
+        margins = []
+        for k, view in enumerate(cands):
+            trial = copy.copy(ep)  # the same state, its own lists; FC_loc plans its next view
+            for name in ("views", "probs", "entropies", "info_gain", "requested"):
+                setattr(trial, name, list(getattr(ep, name)))
+            trial.planner = None
+            with torch.no_grad():
+                p = trial.step(torch.from_numpy(np.stack([c.render(view[None])[0] for c in cams])),
+                               torch.as_tensor(np.repeat(view[None], 3, 0))).probs[b]
+            others = np.delete(p.numpy(), labels[b])
+            margins.append(-math.inf if k in seen else float(p[labels[b]]) - others.max())
+        np.testing.assert_allclose(views[2, b], cands[int(np.argmax(margins))])
+
+
 def test_revisit_penalty_counts_close_pairs_and_pushes_views_apart():
     from active_recognition.losses import revisit_penalty
     far = torch.tensor([[[0.5, 0.0], [2.5, 3.0], [1.5, 1.5]]])

@@ -130,7 +130,8 @@ def test_greedy_picks_the_least_entropy_candidate_by_brute_force():
         run(ep, cams, views, 2)  # two steps: the cached features are reused at the second
         for i, cam in enumerate(cams):
             depth = torch.from_numpy(cam.render(oracle.candidates))
-            logits, _, _ = model(depth, ep.hidden[i:i + 1].expand(len(depth), -1).clone())
+            logits, _, _ = model(depth, ep.hidden[i:i + 1].expand(len(depth), -1).clone(),
+                                 torch.as_tensor(oracle.candidates, dtype=torch.float32))
             p = logits.softmax(-1)
             h = -(p * p.clamp_min(1e-12).log()).sum(-1)
             # the oracle's choice after step 2, recomputed the slow way from the same state
@@ -138,7 +139,10 @@ def test_greedy_picks_the_least_entropy_candidate_by_brute_force():
             np.testing.assert_allclose(chosen, oracle.candidates[int(h.argmin())])
 
 
-def test_the_oracle_picks_the_unvisited_candidate_likeliest_to_be_right_by_brute_force():
+def test_the_oracle_picks_the_unvisited_candidate_right_by_the_widest_margin_by_brute_force():
+    """The oracle's next view is the unvisited candidate after which the episode's answer (the
+    shipped model's readout: its last step's, or the mean of every step's) puts the true class
+    furthest above the strongest other."""
     from active_recognition.policies import nearest_candidates
 
     model, _, _ = checkpoint.load_model()
@@ -152,10 +156,15 @@ def test_the_oracle_picks_the_unvisited_candidate_likeliest_to_be_right_by_brute
         chosen = oracle.next_view(ep, None)
         for i, cam in enumerate(cams):
             depth = torch.from_numpy(cam.render(oracle.candidates))
-            logits, _, _ = model(depth, ep.hidden[i:i + 1].expand(len(depth), -1).clone())
-            p_true = logits.softmax(-1)[:, labels[i]].numpy()
-            p_true[[t[i] for t in taken]] = -1  # never a view it has taken
-            np.testing.assert_allclose(chosen[i], oracle.candidates[int(p_true.argmax())])
+            logits, _, _ = model(depth, ep.hidden[i:i + 1].expand(len(depth), -1).clone(),
+                                 torch.as_tensor(oracle.candidates, dtype=torch.float32))
+            p = logits.softmax(-1)
+            if model.config.readout != "last":
+                p = (ep.probs_sum[i] + p) / (ep.steps + 1)
+            p = p.numpy()
+            margin = p[:, labels[i]] - np.delete(p, labels[i], 1).max(1)
+            margin[[t[i] for t in taken]] = -math.inf  # never a view it has taken
+            np.testing.assert_allclose(chosen[i], oracle.candidates[int(margin.argmax())])
 
 
 def test_shipped_twins_model_chooses_views_that_pay():
