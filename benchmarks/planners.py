@@ -40,9 +40,10 @@ ROOT = Path(__file__).resolve().parents[1]
 MODELS = SHIPPED.parent
 # the planners each dataset's shipped models serve, and the model file of each
 EVERY = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
-PLANNERS = {"procedural": ("learned", "random", "straight", "reinforce", "oracle"),
+PLANNERS = {"procedural": EVERY[:-1] + ("fixed+imitation", "oracle"),
             "twins": EVERY, "modelnet": EVERY[:-1] + ("fixed+imitation", "oracle")}
-CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt"},
+CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt",
+                              "imitation": "procedural.pt"},
                "twins": {"learned": "twins_learned.pt", "reinforce": "twins_reinforce.pt",
                          "imitation": "twins.pt"},
                "modelnet": {"learned": "modelnet10.pt", "reinforce": "modelnet10_reinforce.pt",

@@ -39,15 +39,23 @@ def main():
     ap.add_argument("--planners", default="learned,random,straight,imitation")
     ap.add_argument("--readout", choices=READOUTS, default=None,
                     help="every model's answer after t views (default: each model's own)")
+    ap.add_argument("--min-elevation", type=float, default=-90.0,
+                    help="degrees: views from no lower (0: a robot's, as procedural.pt and twins.pt "
+                         "are measured; -90: the whole sphere)")
+    ap.add_argument("--yaw", type=float, default=0.0,
+                    help="degrees: every object turned by its own seeded yaw within +-this")
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
     out = Path(args.out or results_dir(args.dataset) / "validation.json")
     record = json.loads(out.read_text()) if out.is_file() else {}
-    if record and (record.get("objects"), record.get("starts")) != (args.objects, args.starts):
-        ap.error(f"{out} holds runs on {record.get('objects')} objects x {record.get('starts')} "
-                 f"starts: compare on the same (--objects, --starts)")
-    record.update(split="val", objects=args.objects, starts=args.starts)
+    setting = {"objects": args.objects, "starts": args.starts, "min_elevation": args.min_elevation,
+               "yaw": args.yaw}
+    held = {k: record.get(k, {"min_elevation": -90.0, "yaw": 0.0}.get(k)) for k in setting}
+    if record and held != setting:
+        ap.error(f"{out} holds runs with {held}: compare on the same settings (--objects, "
+                 f"--starts, --min-elevation, --yaw), or write to another --out")
+    record.update(split="val", **setting)
     runs = record.setdefault("runs", {})
     for item in args.models:
         name, sep, path = item.partition("=")
@@ -57,7 +65,8 @@ def main():
             s = summary(evaluate(EvalConfig(
                 checkpoint=path, planners=tuple(args.planners.split(",")), dataset=args.dataset,
                 root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
-                shared=False, trajectory_figures=0, readout=args.readout)))
+                shared=False, trajectory_figures=0, readout=args.readout,
+                min_elevation=args.min_elevation, yaw=args.yaw)))
         runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"]}
         print(name, {k: v["3"] for k, v in s["acc"].items()})
     write_json(out, record)

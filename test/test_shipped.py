@@ -93,10 +93,14 @@ def check_readme_accuracy(marker, probs, labels):
 
 
 def test_shipped_checkpoint_matches_the_readme_figure():
+    """procedural.pt with the planner 'auto' stands for (the checkpoint's default_planner, and
+    its fixed path) scores the README's figure after 3 views on 100 seeded test objects."""
     model, classes, ckpt = checkpoint.load_model()  # the package's own file, nothing else
     assert classes[0] == "bathtub" and len(classes) == 10 and ckpt["config"]["dataset"] == "procedural"
     test, idx, views = episodes(100, seed=2024)
-    check_readme_accuracy("shipped-acc3", final_probs(model, test, idx, views, 3), test.labels[idx])
+    planner = make_planner(ckpt["default_planner"], model=model, fixed_path=ckpt.get("fixed_path"))
+    check_readme_accuracy("shipped-acc3", final_probs(model, test, idx, views, 3, planner),
+                          test.labels[idx])
 
 
 @pytest.mark.parametrize("dataset,marker", [("procedural", "shipped-minutes"),
