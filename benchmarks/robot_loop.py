@@ -26,6 +26,7 @@ import argparse
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -44,14 +45,35 @@ CAMERAS = {"ideal": VGA,
                          "pose_error_deg": 2.0}}
 
 
-def camera_process(name, params, seed):
-    """The simulated camera node of `name` in its own process and namespace."""
+def camera_process(name, params, seed, log):
+    """The simulated camera node of `name` in its own process and namespace, its output to the
+    open file `log`."""
     env = {**os.environ, "FASTRTPS_DEFAULT_PROFILES_FILE": str(PROFILE)}
     args = [a for k, v in {**params, "seed": seed}.items()
             for a in ("-p", f"{k}:={str(v).lower() if isinstance(v, bool) else v}")]
     return subprocess.Popen([sys.executable, "-m", "active_recognition.nodes.simulated_camera",
                              "--ros-args", "-r", f"__ns:=/{name}", *args],
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                            env=env, stdout=log, stderr=subprocess.STDOUT)
+
+
+def log_tail(log, lines=8):
+    """The last lines the camera process wrote, for an error message."""
+    log.flush()
+    return "".join(Path(log.name).read_text(errors="replace").splitlines(True)[-lines:]) or "(nothing)"
+
+
+def show(executor, camera, index, tries=3, wait=10.0):
+    """Ask the camera process to show object `index`; True once it answered. Setting the index is
+    idempotent, so a request whose response DDS dropped ("failed to send response (timeout)"
+    in the camera's log) is sent again."""
+    from rclpy.parameter import Parameter
+
+    from active_recognition.nodes.demo import spin_until
+    for _ in range(tries):
+        done = camera.set_parameters([Parameter("index", value=index)])
+        if spin_until(executor, done.done, wait):
+            return True
+    return False
 
 
 def run_camera(name, objects, seed, timeout):
@@ -65,7 +87,8 @@ def run_camera(name, objects, seed, timeout):
     from active_recognition.nodes.recognizer import Recognizer
 
     test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
-    proc = camera_process(name, CAMERAS[name], seed)
+    log = tempfile.NamedTemporaryFile("w+", prefix=f"{name}_camera_", suffix=".log")
+    proc = camera_process(name, CAMERAS[name], seed, log)
     try:
         with ros_session() as (ctx, executor):
             recognizer = Recognizer(context=ctx, namespace=name,
@@ -77,12 +100,13 @@ def run_camera(name, objects, seed, timeout):
                 executor.add_node(node)
             ready = spin_until(executor, lambda: camera.services_are_ready(), 120)
             if not ready or not spin_until(executor, client.reset.service_is_ready, 30):
-                raise RuntimeError(f"the {name} camera process did not come up")
+                raise RuntimeError(f"the {name} camera process did not come up; its log ends:\n"
+                                   f"{log_tail(log)}")
             answers, results, seconds = [], [], []
             for i in objects:
-                done = camera.set_parameters([Parameter("index", value=int(i))])
-                if not spin_until(executor, done.done, 30):
-                    raise RuntimeError(f"the {name} camera did not take object {i}")
+                if not show(executor, camera, int(i)):
+                    raise RuntimeError(f"the {name} camera did not take object {i} in 3 tries "
+                                       f"(alive: {proc.poll() is None}); its log ends:\n{log_tail(log)}")
                 start = time.perf_counter()
                 result = recognize(executor, client, timeout=timeout)
                 seconds.append(time.perf_counter() - start)
@@ -91,6 +115,7 @@ def run_camera(name, objects, seed, timeout):
             return answers, results, seconds
     finally:
         stop_processes([proc])
+        log.close()
 
 
 def main(argv=None):
