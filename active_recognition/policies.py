@@ -207,7 +207,7 @@ class CandidateFeatures:
                     (depth.flip(-1) if flipped else depth).to(device))
         return self.features[i, flipped]
 
-    def all(self, model, device, flipped=False):
+    def every(self, model, device, flipped=False):
         """(B, K, F): every object's candidate features."""
         return torch.stack([self.of(model, i, device, flipped) for i in range(len(self.cameras))])
 
@@ -229,9 +229,9 @@ class OraclePlanner(CandidateFeatures):
         spent = barred.all(1)  # every reachable candidate seen: the oracle has nothing new
         out = ~reachable(episode, self.candidates)
         barred[spent] = out if not out.all() else False
-        margin = answer_margins(episode, self.all(model, device), self.candidates,
+        margin = answer_margins(episode, self.every(model, device), self.candidates,
                                 self.labels.to(device),
-                                self.all(model, device, flipped=True) if mirror else None)
+                                self.every(model, device, flipped=True) if mirror else None)
         margin[torch.as_tensor(barred, device=device)] = -math.inf
         return self.candidates[margin.argmax(1).cpu().numpy()]
 

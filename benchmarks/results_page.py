@@ -100,7 +100,7 @@ teacher imitation still learns from); it now takes the one after which the episo
 the true class furthest above the strongest other class. With a mean readout these differ: a
 view that raises the true class can leave the mean answer wrong, and the earlier rule let the
 oracle fall by one episode from 6 to 9 views on ModelNet10. The ModelNet10, procedural and
-twins planner tables use the margin rule; the older studies further down used the earlier one,
+look-alike-pair planner tables use the margin rule; the older studies further down used the earlier one,
 and tables measured before issue #22 still say `oracle` for the greedy rule.
 """
 
