@@ -127,7 +127,7 @@ def add_train(sub):
     p.add_argument("--stage", choices=("pretrain", "joint", "all"), help="which stage(s) to run")
     p.add_argument("--policy", choices=("learned", "reinforce", "hybrid", "imitation"),
                    help="how the view head learns: end to end through the depth layer (learned), "
-                        "REINFORCE, both at once (hybrid), or FC_view imitating the oracle "
+                        "REINFORCE, both at once (hybrid), or FC_view imitating a label-aware teacher "
                         "(imitation, needs --candidates)")
     p.add_argument("--revisit-penalty", dest="revisit_penalty", type=own("revisit_penalty"),
                    help="learned: weight of the penalty on views within 30 degrees of earlier ones (0)")
@@ -136,10 +136,10 @@ def add_train(sub):
                         "(imitation: an unvisited candidate), so the classifier learns from any "
                         "sequence of views (0)")
     p.add_argument("--distill-loc", dest="distill_loc", type=own("distill_loc"),
-                   help="imitation: weight of FC_loc's loss toward the oracle's view, so the "
+                   help="imitation: weight of FC_loc's loss toward the teacher's view, so the "
                         "paper's continuous head learns where the teacher looks (0)")
     p.add_argument("--imitation-mix", dest="imitation_mix", type=own("imitation_mix"),
-                   help="imitation: chance that a training step follows the oracle (0.5)")
+                   help="imitation: chance that a training step follows the teacher (0.5)")
     p.add_argument("--pretrain-epochs", dest="pretrain_epochs", type=own("pretrain_epochs"),
                    help="stage 1 epochs")
     p.add_argument("--joint-epochs", dest="joint_epochs", type=own("joint_epochs"),

@@ -108,7 +108,7 @@ class Episode:
         forward = self.forward or self.model
         logits, delta, self.hidden = forward(depth, self.hidden, self.view)
         probs = logits.softmax(-1)
-        if self.model.config.readout.endswith("+mirror") and not self.model.training:
+        if reads_mirror(self.model):
             flipped, _, self.mirror_hidden = forward(depth.flip(-1), self.mirror_hidden,
                                                      mirrored(self.view))
             probs = (probs + flipped.softmax(-1)) / 2
@@ -165,6 +165,12 @@ class Episode:
         self.view = torch.as_tensor(view, dtype=torch.float32,
                                     device=self.view.device).reshape(self.view.shape)
         self.views[-1] = self.view
+
+
+def reads_mirror(model):
+    """Whether an episode of `model` reads each image's mirror image too: readout mean+mirror, at
+    evaluation (in training each step's own logits are what the loss reads)."""
+    return model.config.readout.endswith("+mirror") and not model.training
 
 
 def mirrored(view):

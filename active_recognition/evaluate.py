@@ -21,6 +21,7 @@ Markdown report and PNG plots.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -197,7 +198,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
                              f"{', '.join(PLANNERS)})")
         input_file(path, "checkpoint")
     out = output_dir(cfg.out, "out")
-    model, classes, test, _ = checkpoint_split(cfg.checkpoint, cfg)
+    model, classes, test, ckpt = checkpoint_split(cfg.checkpoint, cfg)
     follow = any(p in FIXED for p in cfg.planners)  # a planner needs the fixed path
     total = len(test.ds.require_objects())
     pool = picked_on = None  # val: the fixed path picked on one half, the planners scored on the other
@@ -212,6 +213,11 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     for m in (model, *models.values()) if cfg.readout else ():
         m.config.readout = cfg.readout
+    if model.config.readout.endswith("+mirror") and not ckpt.get("config", {}).get("mirror"):
+        warnings.warn(f"{cfg.checkpoint or 'the shipped model'}: readout {model.config.readout} "
+                      f"reads each image's mirror image too, but the model was not trained with "
+                      f"mirrored shapes (train --mirror): its answers from mirror images are "
+                      f"untested")
     for name in ("imitation", "fixed+imitation"):  # FC_view needed: refuse now, not after the judge
         if name in cfg.planners:
             make_planner("imitation", model=models.get(name) or model)

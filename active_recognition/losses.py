@@ -14,7 +14,7 @@
 
 """The training losses: stage 1 pre-trains the classifier on single images (PretrainLoss); stage 2
 runs whole episodes (JointLoss: end to end through the depth layer, the paper's; ReinforceLoss:
-MV-RNN's way; ImitationLoss: FC_view learns the oracle's choice, with the oracle's targets).
+MV-RNN's way; ImitationLoss: FC_view learns a label-aware teacher's choice).
 """
 from __future__ import annotations
 
@@ -129,12 +129,13 @@ class ReinforceLoss(nn.Module):
 
 
 class ImitationLoss(nn.Module):
-    """FC_view imitates the oracle, DAgger-style; the classifier learns on the states visited.
+    """FC_view imitates a label-aware teacher (policies.teacher_choice), DAgger-style; the
+    classifier learns on the states visited.
 
-    At every step the oracle tries each candidate view of each object with the current model
+    At every step the teacher tries each candidate view of each object with the current model
     and picks the one after which the true class is most probable (privileged, training only).
     FC_view is trained to pick it (cross-entropy over the candidates not yet visited). The next
-    view is the oracle's with probability `mix`, else FC_view's, so FC_view also learns from
+    view is the teacher's with probability `mix`, else FC_view's, so FC_view also learns from
     states its own choices lead to. Renders are plain: no gradient crosses the depth layer.
     """
 
@@ -149,7 +150,7 @@ class ImitationLoss(nn.Module):
         self.limits = limits
 
     def oracle_targets(self, cand_features, hidden, labels, visited):
-        """(B,) index of the best unvisited candidate for each object (the oracle's choice)."""
+        """(B,) index of the best unvisited candidate for each object (the teacher's choice)."""
         return teacher_choice(self.model, cand_features, hidden, labels, self.candidates, visited)
 
     def forward(self, cameras, views, labels):

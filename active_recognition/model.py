@@ -18,7 +18,7 @@ SC (shape classifier) = encoder + cell (from a zero state) + FC_class; 3D-STN = 
 Two options beyond the paper: `view_input` feeds the current view (the camera's unit position)
 to the RNN beside the image features, as MV-RNN does, so the state knows where each image was
 taken; `candidates` > 0 adds FC_view, a head that scores that many evenly spread candidate views
-(geometry.fibonacci_views) from h_t, trained by imitating the oracle (train --policy imitation).
+(geometry.fibonacci_views) from h_t, trained by imitating a label-aware teacher (train --policy imitation).
 """
 from __future__ import annotations
 

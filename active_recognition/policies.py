@@ -48,6 +48,7 @@ import numpy as np
 import torch
 
 from . import geometry
+from .episode import mirrored, reads_mirror
 from .validation import InputError
 
 PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "fixed+imitation",
@@ -175,7 +176,6 @@ def answer_margins(episode, features, views, labels, mirror_features=None):
     puts the true class above the strongest other (negative: the answer would be wrong).
     features (B, K, F) of the candidates (mirror_features: of their images flipped, for the
     readout mean+mirror), views (K, 2), labels (B,)."""
-    from .episode import mirrored
     model = episode.model
     with torch.no_grad():
         p = lookahead_logits(model, features, episode.hidden, views).softmax(-1)      # (B, K, C)
@@ -224,7 +224,7 @@ class OraclePlanner(CandidateFeatures):
 
     def next_view(self, episode, step):
         model, device = episode.model, episode.view.device
-        mirror = model.config.readout.endswith("+mirror")
+        mirror = reads_mirror(model)
         barred = unavailable(episode, self.candidates)
         spent = barred.all(1)  # every reachable candidate seen: the oracle has nothing new
         out = ~reachable(episode, self.candidates)

@@ -18,7 +18,7 @@ Stage "pretrain": depth images of training shapes from random views, cross-entro
 Stage "joint": episodes of `steps` views from the 50 initial views, cross-entropy at every step,
 backpropagation through time; FC_loc learns through the depth layer's view gradient (policy
 "learned"), by REINFORCE ("reinforce") or both ("hybrid"); with policy "imitation" FC_view learns
-to pick the candidate view the oracle picks (DAgger: a step follows the oracle or FC_view).
+to pick the candidate view its label-aware teacher picks (DAgger: a step follows the teacher or FC_view).
 Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU)."""
 from __future__ import annotations
 
@@ -61,8 +61,8 @@ class TrainConfig:
     stage: str = option("all", choices=STAGES + ("all",))
     # learned (end to end) | reinforce | hybrid (both) | imitation
     policy: str = option("learned", choices=POLICIES)
-    imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the oracle
-    distill_loc: float = option(0.0, lo=0)  # imitation: FC_loc's loss toward the oracle's view (the paper's head)
+    imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the teacher
+    distill_loc: float = option(0.0, lo=0)  # imitation: FC_loc's loss toward the teacher's view (the paper's head)
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
     random_views: float = option(0.0, lo=0, hi=1)   # chance a training step looks anywhere new
     # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame): every

@@ -90,8 +90,7 @@ each step's class probabilities with those of the image flipped left to right, r
 mirrored object from the mirrored view in an RNN state of its own (the model was trained with
 mirrored shapes), at twice the encoder's work a frame. On every validation object (393, 10
 seeded starts each; docs/results/modelnet10/readout.json) it was no lower than `mean` for any
-planner after 3, 6 or 9 views (imitation 94.8 / 95.1 / 95.6 % against 94.2 / 94.9 / 95.3 %)
-and its log-loss was lower for all four planners.
+planner after 3, 6 or 9 views (imitation 94.8 / 95.1 / 95.6 % against 94.2 / 94.9 / 95.3 %).
 
 **`oracle` in the older tables.** Until issue #22, `oracle` named the privileged rule that takes
 the candidate view with the least entropy next; that rule is now `greedy`, and `oracle` knows

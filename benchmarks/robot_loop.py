@@ -72,6 +72,9 @@ def show(executor, camera, index, tries=3, wait=10.0):
     for _ in range(tries):
         done = camera.set_parameters([Parameter("index", value=index)])
         if spin_until(executor, done.done, wait):
+            refused = [r.reason for r in done.result().results if not r.successful]
+            if refused:
+                raise RuntimeError(f"the camera refused object {index}: {'; '.join(refused)}")
             return True
     return False
 

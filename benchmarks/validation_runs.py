@@ -67,7 +67,7 @@ def main():
                 root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
                 shared=False, trajectory_figures=0, readout=args.readout,
                 min_elevation=args.min_elevation, yaw=args.yaw)))
-        runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"]}
+        runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"], "readout": args.readout or "own"}
         print(name, {k: v["3"] for k, v in s["acc"].items()})
     write_json(out, record)
     emit({"runs": {k: v["acc"] for k, v in runs.items()}})

@@ -220,6 +220,19 @@ def test_readout_mean_answers_the_running_mean_of_the_same_episodes_last_answers
         np.testing.assert_allclose(mean[planner].probs, running, atol=1e-5)
 
 
+def test_a_mirror_readout_on_a_model_trained_without_mirrored_shapes_is_warned_of(results):
+    """The fixture's model was saved without a training config (so without --mirror): evaluate
+    answers with readout mean+mirror, and says its mirror images are untested; the straight
+    path's views are the same as readout last's, and the answers differ from mean's."""
+    res, cfg, tmp = results
+    with pytest.warns(UserWarning, match="not trained with mirrored shapes"):
+        both = evaluate(replace(cfg, planners=("straight",), readout="mean+mirror",
+                                out=str(tmp / "mirror"), trajectory_figures=0), progress=False)
+    np.testing.assert_allclose(both["straight"].views, res["straight"].views, atol=1e-6)
+    running = np.cumsum(res["straight"].probs, 1) / np.arange(1, cfg.steps + 1)[None, :, None]
+    assert np.abs(both["straight"].probs - running).max() > 1e-6  # float noise is 1e-7 here
+
+
 def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):
     study_section = load_benchmark("results_page").study_section
     assert study_section(tmp_path / "missing.json", "S", "", []) == []
