@@ -120,13 +120,16 @@ def nonfinite(state_dict):
     return None
 
 
-def read_fitting(path, config: ModelConfig, classes, resumable=False):
+def read_fitting(path, config: ModelConfig, classes, resumable=False, grow_loc=False):
     """A checkpoint of this run's model (same options and classes; `resumable`: with its training
-    state), to resume from or to start the joint stage from; CheckpointError naming what differs."""
+    state), to resume from or to start the joint stage from; CheckpointError naming what differs.
+    `grow_loc`: a checkpoint without FC_loc's hidden layer fits a run with one (loc_hidden)."""
     ckpt = read(path)
     build_model(ckpt, path)  # its own weights are sound
     theirs, ours = ModelConfig(**ckpt["model_args"]).to_dict(), config.to_dict()
-    differ = [f"{k} {theirs[k]!r}, this run {ours[k]!r}" for k in ours if theirs[k] != ours[k]]
+    grown = grow_loc and theirs["loc_hidden"] == 0
+    differ = [f"{k} {theirs[k]!r}, this run {ours[k]!r}" for k in ours
+              if theirs[k] != ours[k] and not (grown and k in ("loc_hidden", "loc_step"))]
     if differ:
         raise CheckpointError(path, "written with other model options (" + "; ".join(differ) +
                                     "): use the same options, or another --out")

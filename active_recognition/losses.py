@@ -14,7 +14,8 @@
 
 """The training losses: stage 1 pre-trains the classifier on single images (PretrainLoss); stage 2
 runs whole episodes (JointLoss: end to end through the depth layer, the paper's; ReinforceLoss:
-MV-RNN's way; ImitationLoss: FC_view learns a label-aware teacher's choice).
+MV-RNN's way; ImitationLoss: FC_view learns a label-aware teacher's choice); stage 3, loc, fits
+the paper's head FC_loc to FC_view's choices (LocLoss).
 """
 from __future__ import annotations
 
@@ -26,7 +27,7 @@ from torch import nn
 
 from . import geometry
 from .episode import Episode, EpisodeConfig, run
-from .policies import teacher_choice, unavailable
+from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
 
 
@@ -187,3 +188,61 @@ class ImitationLoss(nn.Module):
             jump = torch.rand(len(target), device=target.device) < self.random_views
             choice = torch.where(jump, anywhere, choice)
         return self.candidates[choice.cpu().numpy()]
+
+
+class LocLoss(nn.Module):
+    """Stage loc: the paper's head FC_loc learns to make the move FC_view would make. Its
+    increment is regressed onto the one toward FC_view's choice (increment_toward, within
+    +-loc_bound), on the states of episodes that follow FC_loc itself or, at `mix` chance a step,
+    FC_view (DAgger: the states FC_loc will meet); from the start of the stage FC_loc's steps reach
+    loc_bound, not max_step. Only FC_loc's parameters are stepped; the
+    episodes run in eval mode, so batch norm's statistics stay as the classifier left them."""
+
+    def __init__(self, model, steps, mix=0.5, corrupt=None, limits=None):
+        super().__init__()
+        self.model, self.steps, self.mix, self.corrupt, self.limits = model, steps, mix, corrupt, limits
+        self.candidates = geometry.fibonacci_views(model.config.candidates)
+        model.loc_fitted.fill_(1.0)  # from now on a step reaches loc_bound
+
+    def collect(self, cameras, views):
+        """Episodes from `views` (B, 2): (states (N, S), FC_view's increments (N, 2), whether
+        FC_loc's own move landed nearest FC_view's choice (N,)), one row a step."""
+        self.states, self.targets, self.agree = [], [], []
+        was = self.model.training
+        self.model.eval()
+        with torch.no_grad():
+            run(Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
+                        planner=self, reach=reach_of(self.limits)), cameras, views, self.steps,
+                corrupt=self.corrupt)
+        self.model.train(was)
+        return torch.cat(self.states), torch.cat(self.targets), torch.cat(self.agree)
+
+    def fit(self, states, targets, opt, passes, rng, batch=256):
+        """`passes` passes of `opt` (over FC_loc) through the pairs in seeded minibatches: the
+        mean squared error of the last pass."""
+        losses = []
+        for _ in range(passes):
+            losses = []
+            for j in np.array_split(rng.permutation(len(states)), max(1, len(states) // batch)):
+                loss = nn.functional.mse_loss(self.model.increment(states[j]), targets[j])
+                opt.zero_grad()
+                loss.backward()
+                opt.step()
+                losses.append(loss.item())
+        return float(np.mean(losses))
+
+    def next_view(self, episode, step):
+        """FC_view's choice among the candidates not visited (the target), or FC_loc's move."""
+        hidden, view = episode.hidden, episode.view
+        scores = self.model.score_views(hidden)
+        scores[torch.as_tensor(unavailable(episode, self.candidates), device=scores.device)] = -math.inf
+        choice = scores.argmax(1)
+        goal = torch.as_tensor(self.candidates, dtype=torch.float32, device=view.device)[choice]
+        own = view + self.model.increment(hidden)
+        own = torch.stack(geometry.wrap_view(own[:, 0], own[:, 1]), -1)
+        self.states.append(hidden)
+        self.targets.append(increment_toward(view, goal, self.model.config.loc_bound))
+        self.agree.append(torch.as_tensor(nearest_candidates(own.cpu().numpy(), self.candidates))
+                          == choice.cpu())
+        follow = torch.rand(len(view), device=view.device) < self.mix
+        return torch.where(follow[:, None], goal, own)

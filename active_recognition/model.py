@@ -30,7 +30,7 @@ import torch
 from torch import nn
 
 from .geometry import unit_position
-from .validation import option, validate
+from .validation import InputError, option, validate
 
 ENCODERS = ("compact", "wide", "alexnet")
 READOUTS = ("last", "mean", "mean+mirror")
@@ -61,6 +61,12 @@ class ModelConfig:
     # an RNN state of its own (test-time augmentation for a model trained with mirrored shapes,
     # in eval mode only: training reads each step's own logits; twice the encoder's work a frame)
     readout: str = option("last", choices=READOUTS)
+    # > 0: FC_loc is the paper's single layer plus a ReLU layer of this width beside it, its output
+    # layer zero at first, so the increment is the single layer's until training stage loc fits
+    # both (one linear layer cannot follow FC_view's choice, a jump that depends on the view and
+    # the state); from stage loc on, a step reaches max_step + loc_step (rad) a component
+    loc_hidden: int = option(0, lo=0, hi=8192)
+    loc_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True)
 
     def __post_init__(self):
         validate(self)
@@ -68,6 +74,11 @@ class ModelConfig:
     @property
     def state_size(self):
         return self.hidden_size + (self.feature_size if self.memory == "rnn+max" else 0)
+
+    @property
+    def loc_bound(self):
+        """The largest |dtheta|, |dphi| FC_loc can ask for once stage loc fitted it (rad)."""
+        return self.max_step + (self.loc_step if self.loc_hidden else 0.0)
 
     @property
     def image_size(self):
@@ -123,6 +134,12 @@ class RecurrentAttention(nn.Module):
         nn.init.zeros_(self.locate.bias)
         if config.candidates:
             self.score_views = nn.Linear(state, config.candidates)  # FC_view
+        if config.loc_hidden:  # built last, so every other layer starts as it would without it
+            self.locate_mlp = nn.Sequential(nn.Linear(state, config.loc_hidden), nn.ReLU(),
+                                            nn.Linear(config.loc_hidden, 2))
+            nn.init.zeros_(self.locate_mlp[-1].weight)
+            nn.init.zeros_(self.locate_mlp[-1].bias)
+            self.register_buffer("loc_fitted", torch.zeros(()))  # 1 once stage loc began
 
     def init_hidden(self, batch, device=None):
         """The state before any view (B, state_size): zeros."""
@@ -159,8 +176,12 @@ class RecurrentAttention(nn.Module):
         return self.classify(hidden), delta, hidden
 
     def increment(self, hidden):
-        """The view increment FC_loc asks for from a state: (dtheta, dphi) (B, 2), each within +-max_step."""
-        return self.config.max_step * torch.tanh(self.locate(hidden))
+        """The view increment FC_loc asks for from a state: (dtheta, dphi) (B, 2), each within
+        +-max_step (+-loc_bound with the hidden layer)."""
+        if not self.config.loc_hidden:
+            return self.config.max_step * torch.tanh(self.locate(hidden))
+        bound = self.config.max_step + self.config.loc_step * self.loc_fitted
+        return bound * torch.tanh(self.locate(hidden) + self.locate_mlp(hidden))
 
     def classify_image(self, depth, view=None):
         """The shape classifier alone: logits from one image, from a zero state."""
@@ -184,3 +205,18 @@ def single_step(model: RecurrentAttention):
     except (RuntimeError, TypeError) as e:  # an operator TorchScript cannot trace
         warnings.warn(f"the model could not be traced ({e}); each step runs the module itself")
         return model
+
+
+def initial_step_bias(step, bound):
+    """FC_loc's bias that makes the untrained view head walk `step`: atanh(step / bound)."""
+    ratio = torch.as_tensor([float(v) for v in step]) / bound
+    if ratio.abs().max() >= 1:
+        raise InputError(f"initial step {list(step)} must lie inside the increment bound "
+                         f"max_step = {bound}")
+    return torch.atanh(ratio)
+
+
+def set_initial_step(model, step):
+    """Make the untrained view head walk a fixed increment."""
+    with torch.no_grad():
+        model.locate.bias.copy_(initial_step_bias(step, model.config.max_step))

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""A training run's metrics: the per-epoch CSV that train writes, read back and compared.
+"""A training run's metrics: the per-epoch validation figures (evaluate_accuracy), the CSV that
+train writes them to, read back and compared.
 
 training_time puts two runs' joint stages side by side on the wall clock (the paper's claim that
 end-to-end training reaches REINFORCE's accuracy in less time).
@@ -25,7 +26,10 @@ import os
 from pathlib import Path
 
 import numpy as np
+import torch
 
+from .episode import Episode, EpisodeConfig, run
+from .reach import ViewLimits, reach_of
 from .validation import InputError, read_text
 from .visualize import plt, save_figure
 
@@ -118,3 +122,30 @@ def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
     return {"reinforce_best": best, "learned_s": t_learned, "reinforce_s": t_rf, "ratio": ratio,
             "learned_best": best_learned, "reinforce_s_to_learned_best": reverse,
             "learned_s_to_learned_best": time_to_reach(learned_rows, best_learned, column)}
+
+
+def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None, limits=None):
+    """Accuracy after 1, 3, 10 views from fixed initial views on a seeded sample of n shapes,
+    with the model's own view head (or `planner`), within `limits` (None: the whole sphere)."""
+    if n <= 0 or not len(shapes):
+        return {}
+    rng = np.random.default_rng(seed)
+    idx = np.sort(rng.permutation(len(shapes))[:n])  # a fixed, seeded subset of every class
+    starts = (limits or ViewLimits()).initial_views(50)
+    views = starts[rng.integers(0, len(starts), len(idx))]
+    was = model.training
+    model.eval()
+    with torch.no_grad():
+        out = run(Episode(model, EpisodeConfig(max_views=max(steps)), planner, reach=reach_of(limits)),
+                  shapes.cameras(idx), views)
+    model.train(was)
+    y = torch.as_tensor(shapes.labels[idx], device=out[0].probs.device)
+    return {f"acc_{k}": round((out[k - 1].probs.argmax(1) == y).float().mean().item(), 4) for k in steps}
+
+
+def own_planner(model, policy):
+    """The planner a run trains: FC_view for imitation, else the model's FC_loc (None)."""
+    if policy == "imitation" and model.config.candidates:
+        from .policies import ImitationPlanner
+        return ImitationPlanner(model)
+    return None

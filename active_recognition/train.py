@@ -19,6 +19,7 @@ Stage "joint": episodes of `steps` views from the 50 initial views, cross-entrop
 backpropagation through time; FC_loc learns through the depth layer's view gradient (policy
 "learned"), by REINFORCE ("reinforce") or both ("hybrid"); with policy "imitation" FC_view learns
 to pick the candidate view its label-aware teacher picks (DAgger: a step follows the teacher or FC_view).
+Stage "loc" (imitation, loc_epochs): FC_loc alone learns to move toward FC_view's choice (LocLoss).
 Runs in one process or under torchrun (DistributedDataParallel, gloo on CPU, nccl on GPU)."""
 from __future__ import annotations
 
@@ -38,16 +39,15 @@ from .datasets import NAMES, default_cache_dir, open_splits
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig, GRADIENT_RULES
 from .devices import distributed, resolve_device
-from .episode import Episode, EpisodeConfig, run
-from .losses import ImitationLoss, JointLoss, PretrainLoss, ReinforceLoss
-from .model import ModelConfig, RecurrentAttention
-from .reach import ViewLimits, reach_of
-from .run_metrics import read_metrics, write_metrics
+from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
+from .model import ModelConfig, RecurrentAttention, initial_step_bias, set_initial_step
+from .reach import ViewLimits
+from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
 from .schedule import SCHEDULES, lr_factor, set_lr
 from .validation import (Check, InputError, SEED_MAX, check_mapping, load_yaml, option, output_dir,
                          validate)
 
-STAGES = ("pretrain", "joint")
+STAGES = ("pretrain", "joint", "loc")
 STEP_WEIGHTINGS = ("uniform", "early")
 POLICIES = ("learned", "reinforce", "hybrid", "imitation")
 MAX_EPOCHS = 100_000
@@ -71,11 +71,14 @@ class TrainConfig:
     max_elevation: float = option(90.0, lo=-90, hi=90)
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
     joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
+    loc_epochs: int = option(0, lo=0, hi=MAX_EPOCHS)  # stage loc: FC_loc learns FC_view's moves (imitation)
     batch_size: int = option(32, lo=1, hi=100_000)
     views_per_shape: int = option(4, lo=1, hi=1000)  # pre-training images per shape per batch
     steps: int = option(10, lo=1, hi=100)            # views per training episode
     lr_pretrain: float = option(1e-3, lo=0, lo_open=True)  # Adam; the paper's SGD used 0.01
     lr_joint: float = option(3e-4, lo=0, lo_open=True)     # the paper: 0.001
+    lr_loc: float = option(3e-4, lo=0, lo_open=True)       # FC_loc alone, in stage loc
+    loc_passes: int = option(100, lo=1, hi=10_000)  # stage loc: passes through each round's moves
     lr_schedule: str = option("constant", choices=SCHEDULES)  # over each stage (schedule.py)
     view_gradient: str = option("surface", choices=GRADIENT_RULES)
     lr_view_scale: float = option(1.0, lo=0)  # FC_loc's learning rate relative to the rest (joint)
@@ -109,10 +112,12 @@ class TrainConfig:
         self.limits()  # min above max is refused now
         if self.initial_step is not None:  # refuse it now, not after pre-training
             initial_step_bias(self.initial_step, self.model.get("max_step", ModelConfig.max_step))
-        epochs = {"pretrain": self.pretrain_epochs, "joint": self.joint_epochs}
-        if not any(epochs[s] for s in (STAGES if self.stage == "all" else (self.stage,))):
-            raise InputError(f"nothing to train: stage {self.stage} with pretrain_epochs "
-                             f"{self.pretrain_epochs} and joint_epochs {self.joint_epochs}")
+        if self.loc_epochs and (self.policy != "imitation" or not self.model.get("loc_hidden")):
+            raise InputError("stage loc (loc_epochs) fits FC_loc to FC_view's choices: it needs "
+                             "policy imitation and model.loc_hidden (its hidden layer's width)")
+        if not any(getattr(self, f"{s}_epochs") for s in (STAGES if self.stage == "all" else (self.stage,))):
+            raise InputError(f"nothing to train: stage {self.stage} with pretrain_epochs {self.pretrain_epochs}, "
+                             f"joint_epochs {self.joint_epochs} and loc_epochs {self.loc_epochs}")
 
     def limits(self) -> ViewLimits:
         """The elevation band the training views keep to."""
@@ -140,21 +145,6 @@ def preset_config(preset=None, flags=None, model=None) -> TrainConfig:
     return TrainConfig(**values)
 
 
-def initial_step_bias(step, bound):
-    """FC_loc's bias that makes the untrained view head walk `step`: atanh(step / bound)."""
-    ratio = torch.as_tensor([float(v) for v in step]) / bound
-    if ratio.abs().max() >= 1:
-        raise InputError(f"initial step {list(step)} must lie inside the increment bound "
-                         f"max_step = {bound}")
-    return torch.atanh(ratio)
-
-
-def set_initial_step(model, step):
-    """Make the untrained view head walk a fixed increment."""
-    with torch.no_grad():
-        model.locate.bias.copy_(initial_step_bias(step, model.config.max_step))
-
-
 def batches(n, batch, seed, stage, epoch, rank, world):
     """This rank's batches of shape indices for an epoch: same on resume, disjoint across ranks."""
     order = np.random.default_rng([seed, STAGES.index(stage), epoch]).permutation(n)
@@ -162,43 +152,19 @@ def batches(n, batch, seed, stage, epoch, rank, world):
     return [mine[b:b + batch] for b in range(0, len(mine) - batch + 1, batch)] or [mine]
 
 
-def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None, limits=None):
-    """Accuracy after 1, 3, 10 views from fixed initial views on a seeded sample of n shapes,
-    with the model's own view head (or `planner`), within `limits` (None: the whole sphere)."""
-    if n <= 0 or not len(shapes):
-        return {}
-    rng = np.random.default_rng(seed)
-    idx = np.sort(rng.permutation(len(shapes))[:n])  # a fixed, seeded subset of every class
-    starts = (limits or ViewLimits()).initial_views(50)
-    views = starts[rng.integers(0, len(starts), len(idx))]
-    was = model.training
-    model.eval()
-    with torch.no_grad():
-        out = run(Episode(model, EpisodeConfig(max_views=max(steps)), planner, reach=reach_of(limits)),
-                  shapes.cameras(idx), views)
-    model.train(was)
-    y = torch.as_tensor(shapes.labels[idx], device=out[0].probs.device)
-    return {f"acc_{k}": round((out[k - 1].probs.argmax(1) == y).float().mean().item(), 4) for k in steps}
-
-
-def own_planner(model, policy):
-    """The planner a run trains: FC_view for imitation, else the model's FC_loc (None)."""
-    if policy == "imitation" and model.config.candidates:
-        from .policies import ImitationPlanner
-        return ImitationPlanner(model)
-    return None
-
-
 def train(cfg: TrainConfig, progress=True):
     """Run the stages of `cfg`; returns the trained model. Checkpoints go to cfg.out/last.pt.
 
-    The paper's two: the shape classifier on single random views, then all of it on episodes."""
+    The paper's two: the shape classifier on single random views, then all of it on episodes; then
+    (loc_epochs) FC_loc alone, learning FC_view's moves."""
     run = Trainer(cfg, progress)
     if run.wants("pretrain"):
         run.stage("pretrain", PretrainLoss(run.model))
         run.save_pretrained()
     if run.wants("joint"):
         run.stage("joint", joint_loss(cfg, run.model, run.corrupt))
+    if cfg.loc_epochs and run.wants("loc"):
+        run.stage("loc", LocLoss(run.model, cfg.steps, cfg.imitation_mix, run.corrupt, cfg.limits()))
     return run.finish()
 
 
@@ -241,9 +207,15 @@ class Trainer:
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
         self.rows, elapsed, self.opt_state, self.saved = [], 0.0, None, None
         if cfg.resume:
-            ckpt = checkpoint.read_fitting(self.ckpt_path, self.mcfg, self.classes, resumable=True)
-            self.model.load_state_dict(ckpt["model"])
+            ckpt = checkpoint.read_fitting(self.ckpt_path, self.mcfg, self.classes, resumable=True,
+                                           grow_loc=True)
             self.state, elapsed = dict(ckpt["state"]), ckpt["elapsed"]
+            # a run that had no FC_loc hidden layer takes one before stage loc: it starts as a
+            # fresh run's would (built last, its output zero, stepped by stage loc alone)
+            grown = ckpt["model_args"].get("loc_hidden", 0) != self.mcfg.loc_hidden
+            if grown and self.state["stage"] >= STAGES.index("loc"):
+                raise checkpoint.CheckpointError(self.ckpt_path, "its stage loc ran without FC_loc's hidden layer")
+            self.model.load_state_dict(ckpt["model"], strict=not grown)
             self.opt_state = ckpt["optimizer"]
             self.rows, self.saved = read_metrics(self.metrics_path), self.state["step"]
             self.log(f"resumed from {self.ckpt_path} at {self.state}")
@@ -284,13 +256,18 @@ class Trainer:
         return self.cfg.stage in ("all", stage) and s >= self.state["stage"]
 
     def optimizer(self, stage):
-        """Adam over the model, FC_loc at its own rate in the joint stage; a resumed run's state."""
+        """Adam over the model, FC_loc at its own rate in the joint stage (its hidden layer,
+        loc_hidden, waits for stage loc, which steps FC_loc alone); a resumed run's state."""
         cfg, model = self.cfg, self.model
+        head = [p for n, p in model.named_parameters() if n.startswith("locate.")]
+        rest = [p for n, p in model.named_parameters() if not n.startswith(("locate.", "locate_mlp."))]
         lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
-        head = list(model.locate.parameters())
-        rest = [p for n, p in model.named_parameters() if not n.startswith("locate.")]
         scale = cfg.lr_view_scale if stage == "joint" else 1.0
-        opt = torch.optim.Adam([{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}])
+        groups = [{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}]
+        if stage == "loc":
+            groups = [{"params": [p for n, p in model.named_parameters() if n.startswith("locate")],
+                       "lr": cfg.lr_loc}]
+        opt = torch.optim.Adam(groups)
         if self.opt_state is not None:
             try:
                 opt.load_state_dict(self.opt_state)
@@ -305,16 +282,18 @@ class Trainer:
         if s > self.state["stage"]:
             self.state.update(stage=s, epoch=0, batch=0)
             self.opt_state = None
+        epochs = getattr(cfg, f"{stage}_epochs")
+        if self.state["epoch"] >= epochs:  # finished before a resume: nothing to build
+            return
         fresh = self.state["epoch"] == 0 and self.state["batch"] == 0
         if stage == "joint" and fresh and cfg.initial_step is not None:
             set_initial_step(self.model, cfg.initial_step)
         opt = self.optimizer(stage)
-        # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
-        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
+        # pre-training leaves FC_loc unused, stage loc all but FC_loc; DDP must be told, or it waits
+        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage != "joint")
                if self.world > 1 else wrapper)
-        epochs = cfg.pretrain_epochs if stage == "pretrain" else cfg.joint_epochs
         for epoch in range(self.state["epoch"], epochs):
-            losses, accs = self.epoch(stage, epoch, epochs, net, opt)
+            losses, accs = (self.loc_round if stage == "loc" else self.epoch)(stage, epoch, epochs, net, opt)
             self.state.update(epoch=epoch + 1, batch=0)
             self.log_epoch(stage, epoch, losses, accs)
             self.save_state(opt)
@@ -347,12 +326,27 @@ class Trainer:
                 self.save_state(opt)
         return losses, accs
 
+    def loc_round(self, stage, epoch, epochs, net, opt):
+        """Stage loc's epoch, a DAgger round: episodes on this rank's training shapes, then
+        loc_passes passes fitting FC_loc to FC_view's moves in them."""
+        cfg, loss = self.cfg, net.module if self.world > 1 else net
+        rng = np.random.default_rng([cfg.seed, STAGES.index(stage), epoch, self.rank])
+        torch.manual_seed(int(rng.integers(2 ** 31)))
+        parts = [loss.collect(self.shapes.cameras(idx, self.augment, rng),
+                              self.starts[rng.integers(0, len(self.starts), len(idx))])
+                 for idx in batches(len(self.shapes), cfg.batch_size, cfg.seed, stage, epoch, self.rank, self.world)]
+        states, targets, agree = (torch.cat(x) for x in zip(*parts))
+        set_lr(opt, lr_factor(cfg.lr_schedule, epoch, epochs))
+        mse = loss.fit(states, targets, opt, cfg.loc_passes, rng)
+        self.state.update(step=self.state["step"] + 1)
+        return [mse], [agree.float().mean().item()]
+
     def batch_loss(self, stage, net, idx, rng):
         """(loss, accuracy) of one batch: single images of random views (pretrain) or whole
-        episodes from one of the 50 initial views (joint)."""
+        episodes from one of the 50 initial views (joint, loc)."""
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
         cams = self.shapes.cameras(idx, self.augment, rng)
-        if stage == "joint":
+        if stage != "pretrain":
             return net(cams, self.starts[rng.integers(0, len(self.starts), len(idx))], y)
         k = self.cfg.views_per_shape
         views = [self.limits.random_views(rng, k) for _ in cams]
@@ -369,7 +363,7 @@ class Trainer:
                "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
                "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
                **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes, seed=self.cfg.seed,
-                                   planner=own_planner(self.model, self.cfg.policy),
+                                   planner=None if stage == "loc" else own_planner(self.model, self.cfg.policy),
                                    limits=self.limits)}
         self.rows.append(row)
         write_metrics(self.metrics_path, self.rows)

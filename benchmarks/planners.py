@@ -44,7 +44,7 @@ PLANNERS = {"procedural": EVERY[:-1] + ("fixed+imitation", "oracle"),
             "twins": EVERY, "modelnet": EVERY[:-1] + ("fixed+imitation", "oracle")}
 CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt",
                               "imitation": "procedural.pt"},
-               "twins": {"learned": "twins_learned.pt", "reinforce": "twins_reinforce.pt",
+               "twins": {"learned": "twins.pt", "reinforce": "twins_reinforce.pt",
                          "imitation": "twins.pt"},
                "modelnet": {"learned": "modelnet10.pt", "reinforce": "modelnet10_reinforce.pt",
                             "imitation": "modelnet10.pt"}}

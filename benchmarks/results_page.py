@@ -58,7 +58,8 @@ python benchmarks/planners.py --min-elevation 0 --ship
 python benchmarks/dataset_difficulty.py --out docs/results/difficulty.json    # the headroom
 ```
 Since issue #22 procedural.pt is trained as ModelNet10's model is (FC_view imitating the oracle,
-FC_loc toward the oracle's moves); the `learned` row is its FC_loc. The training-time comparison
+FC_loc toward the oracle's moves), then FC_loc alone, given a hidden layer, is fitted to the moves
+toward FC_view's choices (stage `loc`, 4 rounds); the `learned` row is its FC_loc. The training-time comparison
 is between the end-to-end run shipped before it and REINFORCE from that run's pre-training; the
 two ran one after the other on an otherwise idle 2-core machine, one thread each
 (`OMP_NUM_THREADS=1`), and the comparison reads their joint stages. The headroom is a property
@@ -394,11 +395,11 @@ def twins_section(folder):
              "lie on the five faces seen from above a floor, two pairs at the front (README, 'The "
              "twins benchmark'). Every view is from above the floor (`--min-elevation 0`). "
              "Every planner "
-             f"runs the same episodes ({episodes(folder)}). `learned` drives twins_learned.pt "
-             "(the best end-to-end run, "
-             "`fixes` in the candidate table below), `reinforce` twins_reinforce.pt; random, "
-             "straight, fixed, imitation and the oracle drive twins.pt, whose classifier scores "
-             "their views. The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
+             f"runs the same episodes ({episodes(folder)}). `learned` is twins.pt's FC_loc, the paper's "
+             "head, fitted to the moves toward FC_view's choices (stage `loc`); `reinforce` drives "
+             "twins_reinforce.pt; random, straight, fixed, imitation and the oracle drive twins.pt, "
+             "whose classifier scores their views (the best end-to-end run, twins_learned.pt, is "
+             "`fixes` in the candidate table below). The models and metrics:", "", "```", TWINS_COMMANDS, "```"]
     parts += headroom_section(folder / "difficulty.json")
 
     parts += ["", "## Accuracy (%) after 3 / 6 / 9 views, each planner with its own classifier", "",
@@ -417,9 +418,9 @@ def twins_section(folder):
             lines.append(f"- `{best}` over `fixed`: {100 * (acc3[best] - acc3['fixed']):+.1f} points "
                          f"(own classifier), {100 * (sh3[best] - sh3['fixed']):+.1f} (shared)")
         if "learned" in acc3:
-            lines.append(f"- `learned` (end to end): {100 * (acc3['learned'] - base):+.1f} points "
-                         "over the best of random and straight, here scored by twins.pt's "
-                         "classifier; with its own classifier see the candidate table below")
+            lines.append(f"- `learned` (FC_loc, the paper's head, after stage loc): "
+                         f"{100 * (acc3['learned'] - acc3['straight']):+.1f} points over straight; the "
+                         "end-to-end runs with their own classifiers are in the candidate table below")
         parts += ["", "At 3 views:", "", *lines]
     parts += turned_section(folder.parent / f"{folder.name}-yaw45", s)
     t = s.get("training_time", {})

@@ -327,7 +327,7 @@ def test_joint_loss_is_the_weighted_sum_of_the_per_step_losses():
 
 
 def test_initial_step_sets_the_untrained_increment():
-    from active_recognition.train import set_initial_step
+    from active_recognition.model import set_initial_step
     model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, max_step=0.8))
     set_initial_step(model, (0.1, -0.7))
     with torch.no_grad():
@@ -387,3 +387,25 @@ def test_random_views_in_training_jump_anywhere_at_their_rate_and_keep_the_rest_
         if rate == 0.3:
             nxt[~jumped].sum().backward()
             assert model.locate.weight.grad.abs().sum() > 0
+
+
+def test_fc_locs_hidden_layer_starts_silent_and_leaves_every_other_layer_as_without_it():
+    torch.manual_seed(4)
+    plain = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8, candidates=5))
+    torch.manual_seed(4)
+    grown = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8, candidates=5,
+                                           loc_hidden=7))
+    theirs = grown.state_dict()
+    added = {f"locate_mlp.{i}.{w}" for i in (0, 2) for w in ("weight", "bias")} | {"loc_fitted"}
+    assert set(theirs) - set(plain.state_dict()) == added
+    for k, v in plain.state_dict().items():  # built last: the same draws for every other layer
+        assert torch.equal(v, theirs[k]), k
+    hidden = torch.randn(6, 12)
+    torch.testing.assert_close(grown.increment(hidden), plain.increment(hidden))
+    with torch.no_grad():
+        grown.locate_mlp[-1].bias.fill_(100.0)  # then it moves the view, within max_step
+    assert torch.allclose(grown.increment(hidden), torch.full((6, 2), grown.config.max_step))
+    grown.loc_fitted.fill_(1.0)  # stage loc widens its reach
+    bound = grown.config.loc_bound
+    assert bound == grown.config.max_step + grown.config.loc_step
+    assert torch.allclose(grown.increment(hidden), torch.full((6, 2), bound))

@@ -25,7 +25,7 @@ from active_recognition import geometry
 from active_recognition.datasets import open_dataset
 from active_recognition.datasets.twins import CLASSES, PAIRS, make_shape
 from active_recognition.depth_layer import DepthCamera
-from active_recognition.episode import Episode, EpisodeConfig
+from active_recognition.episode import Episode, EpisodeConfig, run
 from active_recognition.losses import ImitationLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner, nearest_candidates
@@ -134,10 +134,10 @@ def test_best_subset_accuracy_matches_brute_force(toy):
     torch.testing.assert_close(logits[:, 0], net.classify(feats[:, :3].amax(1)))
 
 
-def small_model(view_input=True, candidates=10):
+def small_model(view_input=True, candidates=10, loc_hidden=0):
     torch.manual_seed(1)
-    return RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8,
-                                          view_input=view_input, candidates=candidates)).eval()
+    return RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8, view_input=view_input,
+                                          candidates=candidates, loc_hidden=loc_hidden)).eval()
 
 
 def test_view_input_makes_the_state_depend_on_where_the_image_was_taken():
@@ -257,7 +257,6 @@ def test_the_oracle_takes_the_unvisited_candidate_after_which_the_answer_is_righ
     the true class furthest above the strongest other."""
     import copy
 
-    from active_recognition.episode import run
     model = small_model(candidates=8)
     model.config.readout = readout
     with torch.no_grad():  # sure answers that differ from view to view
@@ -329,7 +328,6 @@ def test_hybrid_adds_the_depth_layer_gradient_to_reinforce():
     """With explore_through (the hybrid) the classification loss reaches FC_loc through the
     sampled increments and the depth layer; with plain REINFORCE it does not at all, and the
     sampled views are the same either way."""
-    from active_recognition.episode import run
     from active_recognition.losses import steps_loss
     ds = open_dataset("twins", split="test", per_class=1)
     cams = [DepthCamera(*ds.mesh(i)) for i in range(3)]
@@ -449,3 +447,37 @@ def test_imitation_with_random_views_jumps_to_unvisited_candidates_at_its_rate()
         assert all(len(set(col)) == len(col) for col in picked.T)  # never a visited one
         agree = (picked == teacher).mean()
         assert agree == 1.0 if rate == 0.0 else agree < 0.3
+
+
+def test_stage_loc_targets_fc_views_moves_and_fitting_teaches_them_to_fc_loc_alone():
+    from active_recognition.losses import LocLoss, increment_toward
+
+    model = small_model(candidates=8, loc_hidden=16)
+    cams = [DepthCamera(*make_shape(k, 3, False)) for k in range(4)]
+    starts = geometry.fibonacci_views(50)[[3, 17, 30, 44]]
+    loss = LocLoss(model, steps=4, mix=1.0)  # every step goes where FC_view points
+    taken = []
+    step = loss.next_view
+    loss.next_view = lambda ep, s: taken.append(step(ep, s)) or taken[-1]
+    states, targets, agree = loss.collect(cams, starts)
+    assert states.shape == (16, model.config.state_size) and targets.shape == (16, 2) and agree.shape == (16,)
+    # the views FC_view chose are the imitation planner's, run on its own (an independent rule)
+    ep = Episode(model, EpisodeConfig(4, 0.0), ImitationPlanner(model))
+    with torch.no_grad():
+        run(ep, cams, starts, 4)
+    np.testing.assert_allclose(torch.stack(taken).numpy(), torch.stack(ep.views[1:]).numpy(), atol=1e-6)
+    # each target is the bounded increment from the view of that step toward the next
+    views = torch.stack(ep.views)                                                    # (T + 1, B, 2)
+    want = torch.cat([increment_toward(views[t], views[t + 1], model.config.loc_bound) for t in range(4)])
+    torch.testing.assert_close(targets, want)
+    before = {k: v.clone() for k, v in model.state_dict().items()}
+    opt = torch.optim.Adam([p for n, p in model.named_parameters() if n.startswith("locate")], 0.01)
+    first = float(nn_mse(model.increment(states), targets))
+    last = loss.fit(states, targets, opt, passes=200, rng=np.random.default_rng(0), batch=4)
+    assert last < 0.2 * first
+    changed = {k for k, v in model.state_dict().items() if not torch.equal(v, before[k])}
+    assert changed and all(k.startswith("locate") for k in changed)  # the classifier is left as it was
+
+
+def nn_mse(a, b):
+    return ((a - b) ** 2).mean().detach()

@@ -245,3 +245,33 @@ def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_pat
     seen.clear()
     train(TrainConfig(**cfg, out=str(tmp_path / "constant")), progress=False)
     assert {tuple(x) for x in seen} == {(1e-3, 1e-3), (3e-4, 1.5e-4)}
+
+
+def test_stage_loc_added_to_a_finished_run_gives_the_run_that_had_it_from_the_start(tmp_path):
+    imitation = {**TINY, "policy": "imitation", "joint_epochs": 1,
+                 "model": {**TINY["model"], "candidates": 8, "view_input": True}}
+    grown = {**imitation, "loc_epochs": 2, "loc_passes": 3,
+             "model": {**imitation["model"], "loc_hidden": 6}}
+    train(TrainConfig(**imitation, out=str(tmp_path / "a")), progress=False)
+    before = weights(tmp_path / "a" / "final.pt")
+    train(TrainConfig(**grown, out=str(tmp_path / "a"), resume=True), progress=False)
+    train(TrainConfig(**grown, out=str(tmp_path / "b")), progress=False)
+    resumed, fresh = weights(tmp_path / "a" / "final.pt"), weights(tmp_path / "b" / "final.pt")
+    added = {f"locate_mlp.{i}.{w}" for i in (0, 2) for w in ("weight", "bias")} | {"loc_fitted"}
+    assert set(resumed) == set(fresh) == set(before) | added
+    for k in fresh:
+        assert torch.equal(resumed[k], fresh[k]), k
+        if k in before and not k.startswith("loc"):
+            assert torch.equal(fresh[k], before[k]), k  # stage loc steps FC_loc alone
+    assert not torch.equal(fresh["locate_mlp.2.weight"], torch.zeros_like(fresh["locate_mlp.2.weight"]))
+    rows = [line.split(",")[0] for line in (tmp_path / "b" / "metrics.csv").read_text().splitlines()]
+    assert rows.count("loc") == 2
+
+
+@pytest.mark.parametrize("values, message", [
+    ({"loc_epochs": 2, "policy": "imitation", "model": {"candidates": 8}}, "and model.loc_hidden"),
+    ({"loc_epochs": 2, "model": {"candidates": 8, "loc_hidden": 4}}, "needs policy imitation"),
+])
+def test_stage_loc_without_fc_view_or_a_hidden_layer_is_refused(values, message):
+    with pytest.raises(InputError, match=message):
+        TrainConfig(**values)
