@@ -112,6 +112,9 @@ class TrainConfig:
         self.limits()  # min above max is refused now
         if self.initial_step is not None:  # refuse it now, not after pre-training
             initial_step_bias(self.initial_step, self.model.get("max_step", ModelConfig.max_step))
+        if self.stage == "loc" and not self.resume:
+            raise InputError("stage loc fits FC_loc of a trained model: run it with --resume on the "
+                             "run's folder (--out), or train with --stage all")
         if self.loc_epochs and (self.policy != "imitation" or not self.model.get("loc_hidden")):
             raise InputError("stage loc (loc_epochs) fits FC_loc to FC_view's choices: it needs "
                              "policy imitation and model.loc_hidden (its hidden layer's width)")

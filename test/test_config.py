@@ -102,6 +102,7 @@ def test_every_number_refuses_nan_inf_strings_and_booleans(cls, name, bad):
     ({"policy": "imitation"}, "policy imitation needs a view-scoring head"),
     ({"pretrain_epochs": 0, "joint_epochs": 0}, "nothing to train"),
     ({"stage": "joint", "joint_epochs": 0}, "nothing to train"),
+    ({"stage": "loc", "loc_epochs": 2}, "stage loc fits FC_loc of a trained model: run it with --resume"),
     ({"root": ""}, "root must be a non-empty string, or null, got ''"),
 ])
 def test_bad_training_options_are_named(values, message):
