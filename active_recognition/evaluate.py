@@ -227,8 +227,8 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())
         train, val = (Shapes(parts[s], test.camera, cfg.yaw, cfg.seed) for s in ("train", "val"))
         net = load_or_train(Path(cfg.judge or out / "shared_classifier.pt"), train, classes, seed=cfg.seed,
-                            progress=progress)
-        if follow:  # chosen on the validation split, which the judge never saw
+                            progress=progress, val=val)
+        if follow:  # chosen on the validation split, which the judge did not learn from (it stops on it)
             from .view_sets import fixed_path
             fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits(),
                                         indices=picked_on)

@@ -329,3 +329,28 @@ def test_a_model_without_a_view_head_is_refused_before_the_judge_trains(results,
         with pytest.raises(InputError, match="view-scoring head"):
             evaluate(replace(cfg, planners=(name,), shared=True, out=str(tmp / "nohead")),
                      progress=False)
+
+
+def test_the_judge_goes_on_while_validation_rises_and_keeps_its_best(monkeypatch):
+    import copy
+
+    import active_recognition.shared_classifier as shared
+    from active_recognition.datasets import open_dataset
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+
+    shapes = Shapes(open_dataset("procedural", split="test", per_class=1), CameraConfig(64, 64))
+    scores, states = iter([0.50, 0.60, 0.605, 0.9]), []
+
+    def score(net, val, max_views, seed):  # rises by 0.10, then by less than `gain`
+        states.append(copy.deepcopy(net.state_dict()))
+        return next(scores)
+    monkeypatch.setattr(shared, "validation_score", score)
+    net = shared.train_shared(shapes, 10, epochs=2, batch=5, max_views=2, progress=False, val=shapes,
+                              more=1, gain=0.01, max_epochs=10)
+    assert len(states) == 3  # after epochs 2, 3 and 4; the fourth score is never asked for
+    for k, v in net.state_dict().items():
+        assert torch.equal(v, states[1][k]), k  # the best: after epoch 3
+    plain = shared.train_shared(shapes, 10, epochs=2, batch=5, max_views=2, progress=False)
+    for k, v in plain.state_dict().items():  # the same first epochs either way (seeded)
+        assert torch.equal(v, states[0][k]), k
