@@ -188,7 +188,7 @@ def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, t
     judge.pop("format")
     checkpoint.save(out / "shared_classifier.pt", judge)
     status, _, err = run(args, capsys)
-    assert status == 0 and "trained on other shapes or another camera: training it again" in err
+    assert status == 0 and "through another camera or by another recipe: training it again" in err
     assert checkpoint.read_any(out / "shared_classifier.pt")["trained_on"] != "0" * 64
 
 
