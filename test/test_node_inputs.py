@@ -62,7 +62,7 @@ def pose(frame="object", position=(0.0, -1.5, 0.3), w=None):
 @pytest.fixture
 def node():
     with ros_session() as (ctx, executor):
-        camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("index", value=3)])
+        camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("index", value=0)])
         recognizer = Recognizer(context=ctx, parameter_overrides=[
             PROCEDURAL, Parameter("seed", value=7), Parameter("view_timeout", value=0.5)])
         client = DemoClient(context=ctx)
@@ -127,7 +127,7 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
     assert recognizer.sensing.object_size == 1.0 and recognizer.view_timeout == 0.5
     result = recognize(executor, client)  # the simulated camera's good inputs from here on
     assert result is not None and result["status"] == "recognized", result
-    assert result["label"] == "bathtub"  # procedural/test[3]
+    assert result["label"] == "bathtub"  # procedural/test[0]
     assert getattr(recognizer, "callback_errors", 0) == 0
 
 
