@@ -124,7 +124,9 @@ def add_train(sub):
     p.add_argument("--dataset", choices=NAMES, help="dataset layout (default procedural)")
     p.add_argument("--root", type=own("root"), help="dataset root folder")
     p.add_argument("--out", type=own("out"), help="run folder for checkpoints and metrics.csv")
-    p.add_argument("--stage", choices=("pretrain", "joint", "loc", "all"), help="which stage(s) to run")
+    p.add_argument("--stage", choices=("pretrain", "joint", "loc", "all"),
+                   help="which stage(s) to run (default all; loc goes with --resume on a run whose joint "
+                        "stage is done)")
     p.add_argument("--policy", choices=("learned", "reinforce", "hybrid", "imitation"),
                    help="how the view head learns: end to end through the depth layer (learned), "
                         "REINFORCE, both at once (hybrid), or FC_view imitating a label-aware teacher "
@@ -145,15 +147,16 @@ def add_train(sub):
     p.add_argument("--joint-epochs", dest="joint_epochs", type=own("joint_epochs"),
                    help="stage 2 epochs")
     p.add_argument("--loc-epochs", dest="loc_epochs", type=own("loc_epochs"),
-                   help="stage 3 (imitation, needs --loc-hidden): rounds in which FC_loc, the paper's "
-                        "head, learns to move toward FC_view's choice (0: no stage 3)")
+                   help="stage loc (imitation, needs --loc-hidden): rounds in which FC_loc, the paper's "
+                        "head, learns to move toward FC_view's choice, on episodes whose steps follow "
+                        "FC_loc or, at --imitation-mix's chance, FC_view (0: no stage loc)")
     p.add_argument("--loc-hidden", dest="loc_hidden", type=arg_of(ModelConfig, "loc_hidden"),
                    help="width of FC_loc's hidden layer, beside the paper's single layer (0: none)")
     p.add_argument("--loc-step", dest="loc_step", type=arg_of(ModelConfig, "loc_step"),
-                   help="with --loc-hidden: how much further (rad) a step reaches from stage 3 on (0.8)")
-    p.add_argument("--lr-loc", dest="lr_loc", type=own("lr_loc"), help="stage 3 learning rate (3e-4)")
+                   help="with --loc-hidden: from stage loc on a step reaches max_step + this (rad; 0.8)")
+    p.add_argument("--lr-loc", dest="lr_loc", type=own("lr_loc"), help="stage loc's learning rate (3e-4)")
     p.add_argument("--loc-passes", dest="loc_passes", type=own("loc_passes"),
-                   help="stage 3: passes through each round's moves (100)")
+                   help="stage loc: passes through each round's moves (100)")
     p.add_argument("--batch-size", dest="batch_size", type=own("batch_size"),
                    help="shapes per batch")
     p.add_argument("--steps", type=own("steps"), help="views per training episode (default 10)")

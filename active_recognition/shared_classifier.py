@@ -59,7 +59,7 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
     """Train on random view sets (1..max_views views) of every training shape, `epochs` epochs.
     With `val` (the validation split's Shapes), it then goes on `more` epochs at a time for as
     long as that raises its validation score (`validation_score`) by `gain` or more, up to
-    `max_epochs`, and keeps the best: a judge that has not yet learnt a benchmark (the twins
+    `max_epochs`, and keeps the last state that did: a judge that has not yet learnt a benchmark (the twins
     turned by an unknown yaw) gets the time it needs; one that has is left as it was."""
     torch.manual_seed(seed)
     rng = np.random.default_rng(seed)
@@ -68,7 +68,8 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
     best = state = None
     for epoch in range(max_epochs if val is not None else epochs):
         order = rng.permutation(len(shapes))
-        bar = tqdm(range(0, len(order) - batch + 1, batch), desc=f"shared classifier {epoch + 1}",
+        bar = tqdm(range(0, len(order) - batch + 1, batch),
+                   desc=f"shared classifier {epoch + 1}/{epochs}{'' if val is None else '+'}",
                    disable=not progress, file=sys.stderr, leave=False)
         for b in bar:
             idx = order[b:b + batch]

@@ -115,6 +115,8 @@ class TrainConfig:
         if self.stage == "loc" and not self.resume:
             raise InputError("stage loc fits FC_loc of a trained model: run it with --resume on the "
                              "run's folder (--out), or train with --stage all")
+        if self.model.get("loc_hidden") and not self.loc_epochs:
+            raise InputError("model.loc_hidden is FC_loc's hidden layer, which stage loc trains: set loc_epochs too")
         if self.loc_epochs and (self.policy != "imitation" or not self.model.get("loc_hidden")):
             raise InputError("stage loc (loc_epochs) fits FC_loc to FC_view's choices: it needs "
                              "policy imitation and model.loc_hidden (its hidden layer's width)")
@@ -167,6 +169,8 @@ def train(cfg: TrainConfig, progress=True):
     if run.wants("joint"):
         run.stage("joint", joint_loss(cfg, run.model, run.corrupt))
     if cfg.loc_epochs and run.wants("loc"):
+        if (run.state["stage"], run.state["epoch"]) < (STAGES.index("joint"), cfg.joint_epochs):  # FC_view untrained
+            raise InputError(f"stage loc: {cfg.out} has not finished its joint stage; resume it with --stage all first")
         run.stage("loc", LocLoss(run.model, cfg.steps, cfg.imitation_mix, run.corrupt, cfg.limits()))
     return run.finish()
 
@@ -196,8 +200,9 @@ class Trainer:
         self.out = output_dir(cfg.out, "out")
         self.ckpt_path, self.metrics_path = self.out / "last.pt", self.out / "metrics.csv"
         if cfg.resume and not self.ckpt_path.exists():
-            raise InputError(f"resume: {self.ckpt_path} does not exist, so there is nothing to "
-                             f"resume (leave out --resume to start afresh)")
+            raise InputError(f"resume: {self.ckpt_path} does not exist, so there is nothing to resume " + (
+                "(stage loc fits FC_loc of a run trained before: give its --out)" if cfg.stage == "loc"
+                else "(leave out --resume to start afresh)"))
         self.load_data()
         self.mcfg = ModelConfig(**{"num_classes": len(self.classes), **cfg.model})
         self.model = RecurrentAttention(self.mcfg).to(self.device)
@@ -213,8 +218,7 @@ class Trainer:
             ckpt = checkpoint.read_fitting(self.ckpt_path, self.mcfg, self.classes, resumable=True,
                                            grow_loc=True)
             self.state, elapsed = dict(ckpt["state"]), ckpt["elapsed"]
-            # a run that had no FC_loc hidden layer takes one before stage loc: it starts as a
-            # fresh run's would (built last, its output zero, stepped by stage loc alone)
+            # a run without FC_loc's hidden layer takes one before stage loc, as a fresh run has it
             grown = ckpt["model_args"].get("loc_hidden", 0) != self.mcfg.loc_hidden
             if grown and self.state["stage"] >= STAGES.index("loc"):
                 raise checkpoint.CheckpointError(self.ckpt_path, "its stage loc ran without FC_loc's hidden layer")
@@ -288,8 +292,7 @@ class Trainer:
         epochs = getattr(cfg, f"{stage}_epochs")
         if self.state["epoch"] >= epochs:  # finished before a resume: nothing to build
             return
-        fresh = self.state["epoch"] == 0 and self.state["batch"] == 0
-        if stage == "joint" and fresh and cfg.initial_step is not None:
+        if stage == "joint" and self.state["epoch"] == self.state["batch"] == 0 and cfg.initial_step is not None:
             set_initial_step(self.model, cfg.initial_step)
         opt = self.optimizer(stage)
         # pre-training leaves FC_loc unused, stage loc all but FC_loc; DDP must be told, or it waits

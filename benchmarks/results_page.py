@@ -189,8 +189,9 @@ def write_results_page(path, results):
         parts += ["", "## The same views scored by one shared multi-view classifier", "",
                   "The shared classifier (the judge: MV-CNN's view pooling over a compact encoder) learns "
                   "from random view sets of the training split, 15 epochs, then 5 at a time for as long as "
-                  "that raises its validation score (accuracy after 1 to 10 random views) by a point; it "
-                  "keeps its best. Before issue #22's last change it stopped at 15, too early for the twins "
+                  "that raises its validation score (accuracy after 1 to 10 random views) by a point, 60 "
+                  "at most; it keeps the last state that did. Before issue #22's last change it stopped at 15, "
+                  "too early for the twins "
                   "with an unknown heading.", "",
                   table(accuracy_rows(s, "acc_shared", "stderr_3_shared"),
                         ["planner", "3", "6", "9"] + (["s.e. at 3"] if "stderr_3_shared" in s else []))]

@@ -103,6 +103,7 @@ def test_every_number_refuses_nan_inf_strings_and_booleans(cls, name, bad):
     ({"pretrain_epochs": 0, "joint_epochs": 0}, "nothing to train"),
     ({"stage": "joint", "joint_epochs": 0}, "nothing to train"),
     ({"stage": "loc", "loc_epochs": 2}, "stage loc fits FC_loc of a trained model: run it with --resume"),
+    ({"model": {"loc_hidden": 8}}, "model.loc_hidden is FC_loc's hidden layer, which stage loc trains"),
     ({"root": ""}, "root must be a non-empty string, or null, got ''"),
 ])
 def test_bad_training_options_are_named(values, message):

@@ -275,3 +275,14 @@ def test_stage_loc_added_to_a_finished_run_gives_the_run_that_had_it_from_the_st
 def test_stage_loc_without_fc_view_or_a_hidden_layer_is_refused(values, message):
     with pytest.raises(InputError, match=message):
         TrainConfig(**values)
+
+
+def test_stage_loc_waits_for_a_finished_joint_stage(tmp_path):
+    imitation = {**TINY, "policy": "imitation", "joint_epochs": 1, "model": {**TINY["model"], "candidates": 8}}
+    train(TrainConfig(**imitation, stage="pretrain", out=str(tmp_path / "a")), progress=False)
+    grown = {**imitation, "loc_epochs": 1, "model": {**imitation["model"], "loc_hidden": 4}}
+    with pytest.raises(InputError, match="has not finished its joint stage"):
+        train(TrainConfig(**grown, stage="loc", resume=True, out=str(tmp_path / "a")), progress=False)
+    assert checkpoint.read(tmp_path / "a" / "last.pt")["state"]["stage"] == 0  # nothing was written
+    with pytest.raises(InputError, match="stage loc fits FC_loc of a run trained before"):
+        train(TrainConfig(**grown, stage="loc", resume=True, out=str(tmp_path / "none")), progress=False)
