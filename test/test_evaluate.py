@@ -354,3 +354,19 @@ def test_the_judge_goes_on_while_validation_rises_and_keeps_its_best(monkeypatch
     plain = shared.train_shared(shapes, 10, epochs=2, batch=5, max_views=2, progress=False)
     for k, v in plain.state_dict().items():  # the same first epochs either way (seeded)
         assert torch.equal(v, states[0][k]), k
+
+
+def test_the_judges_validation_score_of_a_constant_classifier_is_its_class_share():
+    import active_recognition.shared_classifier as shared
+    from active_recognition.datasets import open_dataset
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+
+    val = Shapes(open_dataset("procedural", split="test", per_class=2), CameraConfig(64, 64))
+    net = shared.MultiViewClassifier(10).eval()
+    for k in (0, 3):
+        with torch.no_grad():  # every view set answered class k
+            net.classify.weight.zero_()
+            net.classify.bias.copy_(torch.nn.functional.one_hot(torch.tensor(k), 10).float())
+        want = float(np.mean(np.asarray(val.labels) == k))
+        assert shared.validation_score(net, val, max_views=3) == pytest.approx(want)
