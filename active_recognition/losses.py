@@ -29,6 +29,7 @@ from . import geometry
 from .episode import Episode, EpisodeConfig, run
 from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
+from .validation import InputError
 
 
 def step_weights(steps, weighting="uniform"):
@@ -196,10 +197,14 @@ class LocLoss(nn.Module):
     +-loc_bound), on the states of episodes that follow FC_loc itself or, at `mix` chance a step,
     FC_view (DAgger: the states FC_loc will meet); from the start of the stage FC_loc's steps reach
     loc_bound, not max_step. Only FC_loc's parameters are stepped; the
-    episodes run in eval mode, so batch norm's statistics stay as the classifier left them."""
+    episodes run in eval mode, so batch norm's statistics stay as the classifier left them. One
+    process only: under torchrun each rank's fitting steps would go unaveraged."""
 
     def __init__(self, model, steps, mix=0.5, corrupt=None, limits=None):
         super().__init__()
+        if torch.distributed.is_available() and torch.distributed.is_initialized() \
+                and torch.distributed.get_world_size() > 1:  # its fitting steps would not be averaged
+            raise InputError("stage loc runs in one process: resume the run without torchrun")
         self.model, self.steps, self.mix, self.corrupt, self.limits = model, steps, mix, corrupt, limits
         self.candidates = geometry.fibonacci_views(model.config.candidates)
         model.loc_fitted.fill_(1.0)  # from now on a step reaches loc_bound

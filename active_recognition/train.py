@@ -295,8 +295,8 @@ class Trainer:
         if stage == "joint" and self.state["epoch"] == self.state["batch"] == 0 and cfg.initial_step is not None:
             set_initial_step(self.model, cfg.initial_step)
         opt = self.optimizer(stage)
-        # pre-training leaves FC_loc unused, stage loc all but FC_loc; DDP must be told, or it waits
-        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage != "joint")
+        # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
+        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
                if self.world > 1 else wrapper)
         for epoch in range(self.state["epoch"], epochs):
             losses, accs = (self.loc_round if stage == "loc" else self.epoch)(stage, epoch, epochs, net, opt)
@@ -335,7 +335,7 @@ class Trainer:
     def loc_round(self, stage, epoch, epochs, net, opt):
         """Stage loc's epoch, a DAgger round: episodes on this rank's training shapes, then
         loc_passes passes fitting FC_loc to FC_view's moves in them."""
-        cfg, loss = self.cfg, net.module if self.world > 1 else net
+        cfg, loss = self.cfg, net  # one process (LocLoss refuses more): nothing wraps it
         rng = np.random.default_rng([cfg.seed, STAGES.index(stage), epoch, self.rank])
         torch.manual_seed(int(rng.integers(2 ** 31)))
         parts = [loss.collect(self.shapes.cameras(idx, self.augment, rng),
@@ -349,10 +349,10 @@ class Trainer:
 
     def batch_loss(self, stage, net, idx, rng):
         """(loss, accuracy) of one batch: single images of random views (pretrain) or whole
-        episodes from one of the 50 initial views (joint, loc)."""
+        episodes from one of the 50 initial views (joint)."""
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
         cams = self.shapes.cameras(idx, self.augment, rng)
-        if stage != "pretrain":
+        if stage == "joint":
             return net(cams, self.starts[rng.integers(0, len(self.starts), len(idx))], y)
         k = self.cfg.views_per_shape
         views = [self.limits.random_views(rng, k) for _ in cams]

@@ -481,3 +481,15 @@ def test_stage_loc_targets_fc_views_moves_and_fitting_teaches_them_to_fc_loc_alo
 
 def nn_mse(a, b):
     return ((a - b) ** 2).mean().detach()
+
+
+def test_stage_loc_refuses_more_than_one_process(monkeypatch):
+    from active_recognition.losses import LocLoss
+    from active_recognition.validation import InputError
+
+    model = small_model(candidates=8, loc_hidden=4)
+    monkeypatch.setattr(torch.distributed, "is_initialized", lambda: True)
+    monkeypatch.setattr(torch.distributed, "get_world_size", lambda *a: 2)
+    with pytest.raises(InputError, match="stage loc runs in one process"):
+        LocLoss(model, steps=3)
+    assert float(model.loc_fitted) == 0.0  # refused before it touched the model
