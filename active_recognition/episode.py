@@ -67,6 +67,9 @@ class Episode:
     reach: object = None
     # what runs the model a step (model.single_step: traced, for B = 1); None: the model itself
     forward: object = None
+    # read each image's mirror image too (readout mean+mirror); None: as reads_mirror(model) says.
+    # False where nobody reads the answers (training's episodes that only collect states)
+    mirror: bool | None = None
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
@@ -108,7 +111,7 @@ class Episode:
         forward = self.forward or self.model
         logits, delta, self.hidden = forward(depth, self.hidden, self.view)
         probs = logits.softmax(-1)
-        if reads_mirror(self.model):
+        if self.mirrors:
             flipped, _, self.mirror_hidden = forward(depth.flip(-1), self.mirror_hidden,
                                                      mirrored(self.view))
             probs = (probs + flipped.softmax(-1)) / 2
@@ -145,6 +148,11 @@ class Episode:
         self.view = step.next_view
         self.views.append(self.view)
         return step
+
+    @property
+    def mirrors(self):
+        """Whether this episode reads each image's mirror image too."""
+        return reads_mirror(self.model) if self.mirror is None else self.mirror
 
     def answer(self, probs):
         """The class probabilities the episode answers, from this step's own (the model's

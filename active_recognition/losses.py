@@ -217,8 +217,8 @@ class LocLoss(nn.Module):
         self.model.eval()
         with torch.no_grad():
             run(Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                        planner=self, reach=reach_of(self.limits)), cameras, views, self.steps,
-                corrupt=self.corrupt)
+                        planner=self, reach=reach_of(self.limits), mirror=False),  # answers unread
+                cameras, views, self.steps, corrupt=self.corrupt)
         self.model.train(was)
         return torch.cat(self.states), torch.cat(self.targets), torch.cat(self.agree)
 

@@ -48,7 +48,7 @@ import numpy as np
 import torch
 
 from . import geometry
-from .episode import mirrored, reads_mirror
+from .episode import mirrored
 from .validation import InputError
 
 PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "fixed+imitation",
@@ -224,7 +224,7 @@ class OraclePlanner(CandidateFeatures):
 
     def next_view(self, episode, step):
         model, device = episode.model, episode.view.device
-        mirror = reads_mirror(model)
+        mirror = episode.mirrors
         barred = unavailable(episode, self.candidates)
         spent = barred.all(1)  # every reachable candidate seen: the oracle has nothing new
         out = ~reachable(episode, self.candidates)

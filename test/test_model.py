@@ -409,3 +409,28 @@ def test_fc_locs_hidden_layer_starts_silent_and_leaves_every_other_layer_as_with
     bound = grown.config.loc_bound
     assert bound == grown.config.max_step + grown.config.loc_step
     assert torch.allclose(grown.increment(hidden), torch.full((6, 2), bound))
+
+
+def test_an_episode_told_not_to_mirror_keeps_the_same_states_and_answers_as_mean():
+    from active_recognition.episode import Episode, EpisodeConfig
+
+    torch.manual_seed(2)
+    model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8, view_input=True,
+                                           readout="mean+mirror")).eval()
+    depth = torch.rand(3, 2, 64, 64) * 255
+    runs = {}
+    for mirror in (None, False):
+        ep = Episode(model, EpisodeConfig(3, 0.0), planner=None, mirror=mirror)
+        ep.reset(torch.tensor([[1.0, 0.3], [0.7, -2.0]]))
+        with torch.no_grad():
+            runs[mirror] = [(ep.step(d).probs, ep.hidden.clone()) for d in depth]
+        assert ep.mirrors == (mirror is None)
+    model.config.readout = "mean"
+    ep = Episode(model, EpisodeConfig(3, 0.0))
+    ep.reset(torch.tensor([[1.0, 0.3], [0.7, -2.0]]))
+    with torch.no_grad():
+        plain = [ep.step(d).probs for d in depth]
+    for (p_m, h_m), (p_n, h_n), p in zip(runs[None], runs[False], plain):
+        torch.testing.assert_close(h_m, h_n)  # the mirror pass never touches the state
+        torch.testing.assert_close(p_n, p)    # without it, the answer is the plain mean's
+        assert not torch.allclose(p_m, p_n)   # with it, the mirror images count
