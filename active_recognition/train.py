@@ -265,15 +265,14 @@ class Trainer:
     def optimizer(self, stage):
         """Adam over the model, FC_loc at its own rate in the joint stage (its hidden layer,
         loc_hidden, waits for stage loc, which steps FC_loc alone); a resumed run's state."""
-        cfg, model = self.cfg, self.model
-        head = [p for n, p in model.named_parameters() if n.startswith("locate.")]
-        rest = [p for n, p in model.named_parameters() if not n.startswith(("locate.", "locate_mlp."))]
-        lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
-        scale = cfg.lr_view_scale if stage == "joint" else 1.0
-        groups = [{"params": rest, "lr": lr}, {"params": head, "lr": lr * scale}]
+        cfg, named = self.cfg, list(self.model.named_parameters())
         if stage == "loc":
-            groups = [{"params": [p for n, p in model.named_parameters() if n.startswith("locate")],
-                       "lr": cfg.lr_loc}]
+            groups = [{"params": [p for n, p in named if n.startswith("locate")], "lr": cfg.lr_loc}]
+        else:
+            lr = cfg.lr_pretrain if stage == "pretrain" else cfg.lr_joint
+            scale = cfg.lr_view_scale if stage == "joint" else 1.0
+            groups = [{"params": [p for n, p in named if not n.startswith("locate")], "lr": lr},
+                      {"params": [p for n, p in named if n.startswith("locate.")], "lr": lr * scale}]
         opt = torch.optim.Adam(groups)
         if self.opt_state is not None:
             try:
