@@ -179,13 +179,19 @@ class SimulatedCamera:
             with np.errstate(divide="ignore", invalid="ignore"):
                 t = (self.floor_z - position[2]) / dz
             z = np.minimum(z, np.where(np.isfinite(t) & (t > 0), t, np.inf))
+        # flying pixels sit at the surface's real depth jumps: judged before the noise, which
+        # is drawn pixel by pixel here and would make a far face-on wall look torn everywhere
+        jumps = None
+        if s.edge_dropout:  # (a miss is no jump: NaN compares false, as after the range cut)
+            jumps = np.isnan(edge_dropout(np.where(np.isfinite(z), z, np.nan), s.edge_dropout,
+                                          min(self.k.fx, self.k.fy)))
         if s.noise == "kinect":
             noise = s.noise_scale * self.rng.standard_normal(z.shape)
             seen = np.isfinite(z)
             z[seen] += kinect_sigma(z[seen]) * noise[seen]
         z[~np.isfinite(z) | (z < s.min_range) | ((z > s.max_range) if s.max_range else False)] = np.nan
-        if s.edge_dropout:
-            z = edge_dropout(z, s.edge_dropout, min(self.k.fx, self.k.fy))
+        if jumps is not None:
+            z[jumps] = np.nan
         if s.dropout:
             z[self.rng.random(z.shape) < s.dropout] = np.nan
         if s.encoding == "16UC1":

@@ -171,6 +171,18 @@ def test_edge_dropout_removes_pixels_at_jumps_only(chair):
     assert jump[lost].all()  # every pixel lost sits beside a large jump
 
 
+def test_edge_dropout_judges_the_real_jumps_not_the_noise(chair):
+    """Far away a Kinect's noise between neighbouring pixels exceeds a 75-degree slope; the
+    flying-pixel filter still drops only the pixels beside the object's real depth jumps."""
+    far = geometry.camera_position(*VIEW, 6.0)
+    look = geometry.optical_rotation(*VIEW)
+    shots = [simulated(chair, width=128, height=128, fov=20.0, **extra).capture(far, look)[0]
+             for extra in ({"edge_dropout": 75.0}, {"edge_dropout": 75.0, "noise": "kinect"})]
+    plain, noisy = (np.isfinite(z) for z in shots)
+    np.testing.assert_array_equal(plain, noisy)  # the same pixels kept, noise or not
+    assert np.nanmax(np.abs(shots[1] - shots[0])) > 0  # and the noise is there
+
+
 def test_pose_error_is_an_orbit_of_that_angle(chair):
     sim = simulated(chair, pose_error_deg=5.0)
     pos = geometry.camera_position(*VIEW, 1.3)
