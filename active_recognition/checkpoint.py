@@ -14,7 +14,8 @@
 
 """Checkpoints as plain dicts, written atomically and loaded with weights_only=True.
 
-{'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}
+{'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}, and
+'size_prior' where the training set knew its objects' sizes (size_prior.py)
 """
 from __future__ import annotations
 
@@ -27,6 +28,7 @@ from pathlib import Path
 import torch
 
 from .model import ModelConfig, RecurrentAttention
+from .size_prior import SizePrior
 from .validation import InputError, check_mapping
 
 FORMAT = "active_recognition/1"
@@ -109,6 +111,11 @@ def build_model(ckpt, path="<checkpoint>"):
     name = nonfinite(model.state_dict())
     if name is not None:
         raise CheckpointError(path, f"weight {name} holds NaN or infinite values (a diverged run?)")
+    if "size_prior" in ckpt:  # what the object's size says of its class (size_prior.py)
+        try:
+            model.size_prior = SizePrior.from_dict(ckpt["size_prior"], config.num_classes)
+        except InputError as e:
+            raise CheckpointError(path, str(e)) from None
     return model
 
 

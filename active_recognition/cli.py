@@ -282,7 +282,8 @@ def cmd_evaluate(args):
                      starts=args.starts, steps=args.steps,
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
                      shared=not args.no_shared, min_elevation=args.min_elevation,
-                     max_elevation=args.max_elevation, readout=args.readout, yaw=args.yaw)
+                     max_elevation=args.max_elevation, readout=args.readout, yaw=args.yaw,
+                     size=not args.no_size)
     s = summary(evaluate(cfg, runs=runs))
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
@@ -325,6 +326,9 @@ def add_evaluate(sub):
                         "(-90: the whole sphere, the paper's)")
     p.add_argument("--max-elevation", type=own("max_elevation"), default=90.0,
                    help="degrees: views from no higher")
+    p.add_argument("--no-size", action="store_true",
+                   help="answer from the images alone, though the model carries a size prior "
+                        "(modelnet10.pt weighs each object's size, as the node's object_size)")
     p.add_argument("--readout", choices=READOUTS, default=None,
                    help="the answer after t views: the last step's (last), the mean of every "
                         "step's class probabilities (mean), or that mean with each step's "

@@ -70,6 +70,9 @@ class Episode:
     # read each image's mirror image too (readout mean+mirror); None: as reads_mirror(model) says.
     # False where nobody reads the answers (training's episodes that only collect states)
     mirror: bool | None = None
+    # (B,) metres: each object's longest box edge (a detector's box; the node's object_size). With
+    # a model that carries a size prior (size_prior.py) the answer weighs what it says of each class
+    size: object = None
 
     def reset(self, initial_view):
         """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
@@ -156,11 +159,13 @@ class Episode:
 
     def answer(self, probs):
         """The class probabilities the episode answers, from this step's own (the model's
-        readout: these, or the mean of every step's so far)."""
-        if self.model.config.readout == "last":
-            return probs
-        self.probs_sum = self.probs_sum + probs
-        return self.probs_sum / (self.steps + 1)
+        readout: these, or the mean of every step's so far), times what the objects' sizes say
+        of each class where the model has a size prior and the episode knows the sizes."""
+        if self.model.config.readout != "last":
+            self.probs_sum = self.probs_sum + probs
+            probs = self.probs_sum / (self.steps + 1)
+        prior = getattr(self.model, "size_prior", None)
+        return probs if prior is None or self.size is None else prior.apply(probs, self.size)
 
     def visited(self):
         """(steps, 2) numpy views taken so far by a single object (B = 1); empty otherwise."""

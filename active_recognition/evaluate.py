@@ -73,6 +73,8 @@ class EvalConfig:
     yaw: float = option(0.0, lo=0, hi=180)
     # the answer after t views (ModelConfig.readout: last, mean or mean+mirror); None: each model's own
     readout: str | None = option(None, kind=str, optional=True, choices=READOUTS)
+    # weigh what each object's size says of its class, where the model carries a size prior
+    size: bool = option(True)
 
     def __post_init__(self):
         validate(self)
@@ -140,8 +142,9 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
         cams = shapes.cameras(idx)
         planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates, model, fixed_path,
                                shapes.labels[idx])
+        sizes = shapes.sizes(idx) if cfg.size and model.size_prior is not None else None
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
-                     reach=reach_of(cfg.limits()))
+                     reach=reach_of(cfg.limits()), size=None if sizes is None else torch.from_numpy(sizes))
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
         parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),

@@ -51,12 +51,16 @@ def normalise(vertices):
     return (v - (lo + hi) / 2) / size
 
 
+def yaw_matrix(yaw):
+    """(3, 3) that turns row vectors by `yaw` radians about z (vertices @ it)."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    return np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]])
+
+
 def yawed(vertices, yaw):
     """Vertices turned by `yaw` radians about z, their box re-fitted (`normalise`): the object
     in a frame of unknown heading, as a detector's axis-aligned box gives it."""
-    c, s = np.cos(yaw), np.sin(yaw)
-    turn = np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]])
-    return normalise(np.asarray(vertices, dtype=np.float64) @ turn)
+    return normalise(np.asarray(vertices, dtype=np.float64) @ yaw_matrix(yaw))
 
 
 def read_off(path):
@@ -114,8 +118,9 @@ def off_faces(tokens, nf):
     return np.stack([idx[start], idx[start + j], idx[start + j + 1]], 1)  # the fan of each face
 
 
-def load_mesh(path):
-    """Read a mesh file -> (vertices (V, 3) float32 in [-0.5, 0.5]^3, faces (F, 3) int32).
+def load_mesh(path, edge=False):
+    """Read a mesh file -> (vertices (V, 3) float32 in [-0.5, 0.5]^3, faces (F, 3) int32), and with
+    `edge` the longest edge of its bounding box in the file's units (before normalising).
 
     Raises MeshError naming the file and the reason for anything unusable.
     """
@@ -142,7 +147,9 @@ def load_mesh(path):
         raise MeshError(path, f"unreadable: not a valid {suffix[1:].upper()} file") from None
     except Exception as e:  # trimesh raises many types for bad files
         raise MeshError(path, f"unreadable: {e}") from None
-    return check_mesh(path, verts, faces)
+    out = check_mesh(path, verts, faces)
+    verts = np.asarray(verts, dtype=np.float64)
+    return (*out, float((verts.max(0) - verts.min(0)).max())) if edge else out
 
 
 def sniff(path, suffix):

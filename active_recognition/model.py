@@ -123,6 +123,7 @@ class RecurrentAttention(nn.Module):
     def __init__(self, config: ModelConfig):
         super().__init__()
         self.config = config
+        self.size_prior = None  # size_prior.SizePrior a checkpoint may carry: episodes answer with it
         build = {"compact": compact_encoder, "wide": wide_encoder, "alexnet": alexnet_encoder}[config.encoder]
         self.encoder = build(config.feature_size)
         inputs = config.feature_size + (3 if config.view_input else 0)

@@ -71,6 +71,9 @@ class SensingConfig:
     recentre: float = option(0.25, lo=0, hi=1)
     # so many views in a row found unreachable (view_unreachable) end the episode: no_image
     max_unreachable_views: int = option(2, lo=1, hi=MAX_VIEWS)
+    # weigh what object_size says of the class, where the checkpoint carries a size prior
+    # (size_prior.py; modelnet10.pt): a night stand and a dresser differ most in size
+    use_size: bool = option(True)
 
     def __post_init__(self):
         validate(self)
@@ -132,6 +135,7 @@ class ActiveRecognizer:
         if view is None:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
         self.episode.reset(torch.tensor(view, dtype=torch.float32))
+        self.episode.size = torch.tensor([self.sensing.object_size]) if self.sensing.use_size else None
         self.empty_views, self.no_object = 0, False
         self.no_image, self.unreachable_run = False, (None, 0)
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)

@@ -33,7 +33,7 @@ import torch
 from torch import nn
 from tqdm import tqdm
 
-from . import checkpoint
+from . import checkpoint, size_prior
 from .augment import Augment
 from .datasets import NAMES, default_cache_dir, open_splits
 from .datasets.shapes import Shapes
@@ -376,7 +376,7 @@ class Trainer:
 
     def payload(self, **extra):
         return {"model": self.model.state_dict(), "model_args": self.mcfg.to_dict(),
-                "classes": list(self.classes), **extra}
+                "classes": list(self.classes), **size_prior.entry(self.shapes, len(self.classes)), **extra}
 
     def save_state(self, opt):
         if self.rank == 0:

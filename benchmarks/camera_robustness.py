@@ -17,7 +17,10 @@ model's own, each through the ROS-free path the recognizer node uses (SimulatedC
 ActiveRecognizer.observe, which reprojects into the model's camera), with the same test objects,
 starts and random draws in every row. Views keep to the recognizer's default limits (nothing
 from below the object's support: elevation 0..90 degrees), and the `floor` rows' floor is opaque
-from both sides; a request the simulated arm cannot reach is given up (view_unreachable).
+from both sides; a request the simulated arm cannot reach is given up (view_unreachable). Each
+object is shown at its own size where the dataset knows it (ModelNet10: inches, kept within 0.3 to
+3 m), and the recognizer is told that size (`object_size`, which modelnet10.pt's size prior reads);
+else at 1 m.
 
 Columns: accuracy after 3 views (the answer after the 3rd view, or at the stop if the episode
 stopped sooner: what a robot allowed 3 views would say), accuracy at the stop, mean views.
@@ -27,6 +30,7 @@ Writes docs/results/camera_robustness.json and re-renders docs/RESULTS.md. Last 
 import argparse
 import json
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -66,6 +70,8 @@ ROWS = {
     "yaw unknown": ({}, 1.0, 0.0),
     "cross-style (held-out styles)": ({}, 1.0, 0.0),
 }
+# metres: the sizes the objects are shown at, a household object's (ModelNet's own within these)
+SIZES = (0.3, 3.0)
 # rows that change the object, not the camera: a random heading, or the held-out styles
 OBJECTS = {"yaw unknown": {"yaw": True}, "cross-style (held-out styles)": {"split": "cross"}}
 FRAME = ("object frame 5 % off centre", "object frame 15 % off centre",
@@ -89,11 +95,14 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
                             sensing=SensingConfig(object_size=believed_size), limits=LIMITS)
     hits3, hits_stop, views = [], [], []
     for i in objects:
-        sim = SimulatedCamera(sensor, seed=seed * 100003 + int(i), offset=off * directions[i],
-                              yaw=yaws[i])
+        # metres: ModelNet's own (its files are in inches), else 1 m; kept within a household
+        # object's, as a tenth of ModelNet10's test files are drawn in other units (a 115 m bathtub)
+        size = min(max(test.size(int(i)) or 1.0, SIZES[0]), SIZES[1])
+        sim = SimulatedCamera(replace(sensor, object_size=size * sensor.object_size),
+                              seed=seed * 100003 + int(i), offset=off * directions[i], yaw=yaws[i])
         sim.load(dataset=dataset, split=split, index=int(i), root=root or "")
         truth = test.classes[test.items[i][1]]
-        core.reset(view=starts[i])
+        core.reset(view=starts[i], sensing=SensingConfig(object_size=size * believed_size))
         labels = []
         while not core.done:
             pos, rot = core.requested_pose(k)

@@ -99,12 +99,17 @@ def main():
     ap.add_argument("--yaw", type=float, default=0.0,
                     help="degrees: every object turned by its own seeded yaw within +-this (a "
                          "detector's rough heading); results go to docs/results/<dataset>-yaw<N>")
+    ap.add_argument("--no-size", action="store_true",
+                    help="answer from the images alone, though the model carries a size prior "
+                         "(default out: the dataset's folder/images_only)")
     ap.add_argument("--ship", action="store_true",
                     help="write the measured best planner (and the fixed path) into the "
                          "dataset's shipped model, for the recognizer's planner 'auto'")
     args = ap.parse_args()
     if args.ship and args.split != "test":
         ap.error("--ship records the default planner for the test split's models; leave out --split")
+    if args.ship and args.no_size:
+        ap.error("--ship records the default planner of the model as the node runs it; leave out --no-size")
     if args.ship and args.yaw:
         ap.error("--ship records the default planner chosen at the canonical heading; leave out --yaw")
     if (args.dataset == "modelnet") != bool(args.root):
@@ -115,7 +120,7 @@ def main():
     cross = RESULTS / f"{args.dataset}-cross"  # the held-out styles
     turned = RESULTS / f"{FOLDER[args.dataset] or args.dataset}-yaw{args.yaw:g}"
     out = Path(args.out) if args.out else cross if args.split == "cross" else \
-        turned if args.yaw else runs
+        turned if args.yaw else runs / "images_only" if args.no_size else runs
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
@@ -135,7 +140,7 @@ def main():
     cfg = EvalConfig(checkpoint=model, planner_checkpoints=own, planners=PLANNERS[args.dataset],
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, out=str(out), min_elevation=args.min_elevation,
-                     max_elevation=args.max_elevation, yaw=args.yaw)
+                     max_elevation=args.max_elevation, yaw=args.yaw, size=not args.no_size)
     if args.split == "test":  # on the validation split, before test is read
         chosen, val_acc = choose_default(cfg, out)
     else:  # the held-out styles: the default the test run chose, as the shipped model records it

@@ -63,9 +63,9 @@ def count_loads(monkeypatch):
     """The files `load_mesh` parses from now on (a list that fills as they are read)."""
     seen, real = [], base.load_mesh
 
-    def counting(path):
+    def counting(path, **kwargs):
         seen.append(os.path.basename(path))
-        return real(path)
+        return real(path, **kwargs)
     monkeypatch.setattr(base, "load_mesh", counting)
     return seen
 

@@ -15,7 +15,8 @@
 """What every dataset is: a list of (source, label) per split, meshes loaded once and cached.
 
 The conversion cache of file datasets (ModelNet, ShapeNet, a folder): each mesh file is parsed and
-normalised once (`load_mesh`) and kept as float32 vertices and int32 faces in one .npz per file,
+normalised once (`load_mesh`) and kept as float32 vertices, int32 faces and the longest edge of
+its box before normalising (the object's size in the file's units) in one .npz per file,
 `<cache_dir>/meshes/<key>.npz`, the key a hash of the cache version, the file's resolved path, its
 size and its modification time, so a changed file is read again. A file that cannot be used is
 cached too, as its reason, so a later run parses no mesh text at all. Writes go to a temporary
@@ -36,7 +37,7 @@ from ..meshes import MeshError, load_mesh
 from ..validation import InputError
 
 SPLITS = ("train", "test")
-MESH_CACHE_VERSION = 1  # bump when load_mesh gives other arrays for the same file
+MESH_CACHE_VERSION = 2  # bump when load_mesh gives other arrays for the same file (2: the edge)
 
 
 def default_cache_dir():
@@ -94,7 +95,7 @@ def mesh_cache_path(cache_dir: Path, path: Path) -> Path:
 
 
 def load_mesh_entry(entry: Path, source):
-    """A conversion-cache entry: (vertices, faces), a MeshError for a file cached as unusable,
+    """A conversion-cache entry: (vertices, faces, edge), a MeshError for a file cached as unusable,
     or None when the entry is missing or damaged (then the file is converted again)."""
     if not entry.is_file():
         return None
@@ -105,19 +106,20 @@ def load_mesh_entry(entry: Path, source):
                 if kind not in MeshError.KINDS:
                     return None
                 return MeshError(source, str(z["reason"]), kind)
-            return np.array(z["vertices"]), np.array(z["faces"])
+            return np.array(z["vertices"]), np.array(z["faces"]), float(z["edge"])
     except Exception:  # truncated zip, bad header, missing key: all mean "convert it again"
         return None
 
 
 def convert_mesh(source, cache_dir=None):
-    """(vertices (V, 3) float32, faces (F, 3) int32, whether it came from the cache) of the
-    mesh file `source`, normalised by `load_mesh`; through the conversion cache under
+    """(vertices (V, 3) float32, faces (F, 3) int32, the box's longest edge in the file's units,
+    whether it came from the cache) of the mesh file `source`, normalised by `load_mesh`; through
+    the conversion cache under
     `cache_dir` when given. Raises MeshError (from the cache too) for an unusable file,
     OSError when it cannot be read."""
     path = Path(source)
     if cache_dir is None:
-        return (*load_mesh(path), False)
+        return (*load_mesh(path, edge=True), False)
     entry = mesh_cache_path(cache_dir, path)
     cached = load_mesh_entry(entry, path)
     if isinstance(cached, MeshError):
@@ -125,12 +127,12 @@ def convert_mesh(source, cache_dir=None):
     if cached is not None:
         return (*cached, True)
     try:
-        verts, faces = load_mesh(path)
+        verts, faces, edge = load_mesh(path, edge=True)
     except MeshError as e:  # remembered, so a later run does not parse it again
         save_npz_atomic(entry, reason=np.array(e.reason), kind=np.array(e.kind))
         raise
-    save_npz_atomic(entry, vertices=verts, faces=faces)
-    return verts, faces, False
+    save_npz_atomic(entry, vertices=verts, faces=faces, edge=np.array(edge))
+    return verts, faces, edge, False
 
 
 @dataclass
@@ -147,6 +149,9 @@ class ShapeDataset:
     layout: str = ""  # where the items were looked for, e.g. "modelnet root R (R/<class>/train/*.off)"
     loaded: Counter = field(default_factory=Counter)  # meshes "converted" / read from "cache"
     _skip_kinds: dict = field(default_factory=dict, repr=False)  # source -> MeshError kind
+    # metres per unit of the files (ModelNet: inches), for the objects' sizes; None: unknown
+    unit: float | None = None
+    _edges: dict = field(default_factory=dict, repr=False)  # source -> longest box edge, file units
 
     def __post_init__(self):
         self.cache_dir = None if self.cache_dir is None else Path(self.cache_dir)
@@ -176,9 +181,19 @@ class ShapeDataset:
         return self._meshes[i]
 
     def _load(self, source):
-        verts, faces, cached = convert_mesh(source, self.cache_dir)
+        verts, faces, edge, cached = convert_mesh(source, self.cache_dir)
         self.loaded["cache" if cached else "converted"] += 1
+        self._edges[source] = edge
         return verts, faces
+
+    def size(self, i):
+        """Item i's size, the longest edge of its box in metres; None where the files' unit is
+        unknown or the item is generated."""
+        if self.unit is None:
+            return None
+        self.mesh(i)
+        edge = self._edges.get(self.items[i][0])
+        return None if edge is None else edge * self.unit
 
     def validate(self, progress=True):
         """Load every mesh once (converted, or from the cache); drop and record the unusable

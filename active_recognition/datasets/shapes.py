@@ -19,7 +19,7 @@ import numpy as np
 
 from ..augment import Augment
 from ..depth_layer import CameraConfig, DepthCamera
-from ..meshes import yawed
+from ..meshes import yaw_matrix, yawed
 
 
 class Shapes:
@@ -43,6 +43,21 @@ class Shapes:
 
     def __len__(self):
         return len(self.ds)
+
+    def sizes(self, idx):
+        """(len(idx),) the objects' longest box edges in metres (with a yaw, of the box
+        re-fitted around the turned object, as a detector would give it), or None where the
+        dataset does not know its objects' sizes."""
+        out = []
+        for i in idx:
+            size = self.ds.size(i)
+            if size is None:
+                return None
+            if self.yaws is not None:  # the turned unit box's longest side, times the size
+                vertices = self.ds.mesh(i)[0] @ yaw_matrix(self.yaws[i])
+                size *= float((vertices.max(0) - vertices.min(0)).max())
+            out.append(size)
+        return np.array(out)
 
     def cameras(self, idx, augment: Augment | None = None, rng=None):
         if augment is not None and augment.meshes:

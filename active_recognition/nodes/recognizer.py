@@ -61,6 +61,8 @@ PARAMS = {  # name: (default, type, description)
     "require_fresh_images": (True, BOOL, "ignore images stamped before the last next_view request"),
     "object_size": (1.0, DBL, "metres: longest edge of the object's bounding box, 0.001..100 "
                               "(from the next reset)"),
+    "use_size": (True, BOOL, "weigh what object_size says of the class (a checkpoint with a size "
+                             "prior, as modelnet10.pt): set object_size to the detector's box"),
     "standoff": (0.0, DBL, "metres from the object's centre to the camera in next_view; 0 = auto "
                            "(the object fills the camera's narrower field of view, 10 % margin)"),
     "pose_tolerance": (0.05, DBL, "seconds: the camera/pose nearest an image's stamp within this is "
@@ -90,7 +92,7 @@ PARAMS = {  # name: (default, type, description)
     "record": ("", STR, "an .mcap file to record every topic of the loop to (from start to "
                         "shutdown); empty = off"),
 }
-SENSING = ("object_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin",
+SENSING = ("object_size", "use_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin",
            "recentre", "max_unreachable_views")
 CHECKS = {**checks(EpisodeConfig), **checks(SensingConfig), **checks(ViewLimits),
           "checkpoint": Check(str), "planner": Check(str, choices=NODE_PLANNERS),
