@@ -38,6 +38,7 @@ from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import EvalConfig, checkpoint_split, rollout, sample_episodes
 from active_recognition.report import write_json
 from active_recognition.size_prior import fit
+from active_recognition.validation import InputError
 
 WEIGHTS = (0.25, 0.5, 0.75, 1.0)
 OUTLIERS = (0.01, 0.05, 0.2)
@@ -55,8 +56,16 @@ def main():
     ap.add_argument("--planners", default="random,straight,imitation")
     ap.add_argument("--starts", type=int, default=3, help="initial views per object")
     ap.add_argument("--write", action="store_true", help="store the chosen prior in the checkpoint")
-    ap.add_argument("--out", default=None, help="JSON (default docs/results/modelnet10/size_prior.json)")
+    ap.add_argument("--out", default=None, help="JSON (default docs/results/modelnet10/size_prior.json for "
+                                                "the shipped model, else CHECKPOINT_size_prior.json)")
     args = ap.parse_args()
+    try:
+        run(args)
+    except InputError as e:  # a bad root or model file: one line, not a traceback
+        ap.error(str(e))
+
+
+def run(args):
     path = Path(args.checkpoint or checkpoint.shipped("modelnet"))
     cfg = EvalConfig(checkpoint=str(path), dataset="modelnet", root=args.root, split="val",
                      starts=args.starts, steps=max(VIEWS), size=False, shared=False)
@@ -79,7 +88,10 @@ def main():
     record = {"split": "val", "objects": len(val), "starts": args.starts, "checkpoint": path.name,
               "train_objects": len(train), "grid": grid,
               "chosen": {"weight": best["weight"], "outlier": best["outlier"]}}
-    write_json(Path(args.out or results_dir("modelnet") / "size_prior.json"), record)
+    # the committed record is the shipped model's; another model's goes beside its file
+    out = args.out or (results_dir("modelnet") / "size_prior.json" if args.checkpoint is None
+                       else path.with_name(f"{path.stem}_size_prior.json"))
+    write_json(Path(out), record)
     if args.write:
         prior = fit(sizes, train.labels, len(classes), best["weight"], best["outlier"])
         checkpoint.save(path, {k: v for k, v in ckpt.items() if k != "format"} | {"size_prior": prior.to_dict()})
