@@ -51,6 +51,12 @@ def normalise(vertices):
     return (v - (lo + hi) / 2) / size
 
 
+def box_edge(vertices):
+    """The longest edge of the vertices' (V, 3) axis-aligned bounding box."""
+    v = np.asarray(vertices, dtype=np.float64)
+    return float((v.max(0) - v.min(0)).max())
+
+
 def yaw_matrix(yaw):
     """(3, 3) that turns row vectors by `yaw` radians about z (vertices @ it)."""
     c, s = np.cos(yaw), np.sin(yaw)
@@ -148,8 +154,7 @@ def load_mesh(path, edge=False):
     except Exception as e:  # trimesh raises many types for bad files
         raise MeshError(path, f"unreadable: {e}") from None
     out = check_mesh(path, verts, faces)
-    verts = np.asarray(verts, dtype=np.float64)
-    return (*out, float((verts.max(0) - verts.min(0)).max())) if edge else out
+    return (*out, box_edge(verts)) if edge else out
 
 
 def sniff(path, suffix):

@@ -208,6 +208,7 @@ class Trainer:
         self.model = RecurrentAttention(self.mcfg).to(self.device)
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
         self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
+        self.size_prior = size_prior.entry(self.shapes, len(self.classes))  # once: every checkpoint holds it
         self.augment = cfg.augment(camera)
         self.limits = cfg.limits()
         self.starts = self.limits.initial_views(50)  # the paper's 50 initial views, in the band
@@ -376,7 +377,7 @@ class Trainer:
 
     def payload(self, **extra):
         return {"model": self.model.state_dict(), "model_args": self.mcfg.to_dict(),
-                "classes": list(self.classes), **size_prior.entry(self.shapes, len(self.classes)), **extra}
+                "classes": list(self.classes), **self.size_prior, **extra}
 
     def save_state(self, opt):
         if self.rank == 0:

@@ -18,6 +18,7 @@ import math
 import numpy as np
 import pytest
 import torch
+from test_datasets import CUBE_QUADS, CUBE_V, write_off
 
 from active_recognition import checkpoint, size_prior
 from active_recognition.datasets import open_dataset
@@ -29,16 +30,6 @@ from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.size_prior import MIN_SCALE, SizePrior, fit
 from active_recognition.validation import InputError
-
-CUBE_V = np.array([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)],
-                  dtype=float)
-CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-
-
-def write_off(path, verts, faces):
-    body = "".join(f"{x} {y} {z}\n" for x, y, z in verts)
-    body += "".join(f"{len(f)} {' '.join(map(str, f))}\n" for f in faces)
-    path.write_text(f"OFF\n{len(verts)} {len(faces)} 0\n" + body)
 
 
 def sample(seed=0):
@@ -149,7 +140,8 @@ def test_modelnet_sizes_come_from_the_files_in_inches_through_the_cache(tmp_path
             d = tmp_path / c / split
             d.mkdir(parents=True)
             for i in range(2):
-                write_off(d / f"{c}_{i}.off", CUBE_V * [scale * (i + 1), 0.5 * scale, 0.25 * scale], CUBE_QUADS)
+                box = np.array(CUBE_V) * [scale * (i + 1), 0.5 * scale, 0.25 * scale]
+                write_off(d / f"{c}_{i}.off", box, CUBE_QUADS)
     cold = open_dataset("modelnet", tmp_path, "train", cache_dir=tmp_path / "cache")
     warm = open_dataset("modelnet", tmp_path, "train", cache_dir=tmp_path / "cache")
     assert warm.loaded["cache"] == 4 and warm.loaded.get("converted", 0) == 0
@@ -195,3 +187,23 @@ def test_the_recognizer_tells_the_episode_its_object_size_unless_told_not_to(use
         assert core.episode.size is None
     core.reset(sensing=SensingConfig(object_size=1.9, use_size=use_size))
     assert (core.episode.size is None) != use_size
+
+
+def test_training_on_modelnet_writes_the_prior_of_its_training_split_less_validation(tmp_path):
+    from active_recognition.datasets import open_splits
+    from active_recognition.train import TrainConfig, train
+    for c, inches in (("large", 40.0), ("small", 10.0)):
+        for split, n in (("train", 8), ("test", 1)):
+            (tmp_path / c / split).mkdir(parents=True)
+            for i in range(n):
+                box = np.array(CUBE_V) * [inches * (1 + 0.05 * i), 0.6 * inches, 0.4 * inches]
+                write_off(tmp_path / c / split / f"{c}_{i}.off", box, CUBE_QUADS)
+    train(TrainConfig(dataset="modelnet", root=str(tmp_path), out=str(tmp_path / "run"), pretrain_epochs=1,
+                      joint_epochs=1, batch_size=4, steps=2, views_per_shape=2, eval_shapes=0, seed=1,
+                      model={"hidden_size": 8, "feature_size": 8}), progress=False)
+    prior = checkpoint.load_model(tmp_path / "run" / "final.pt")[0].size_prior
+    ds = open_splits("modelnet", tmp_path, ("train",), None)["train"]
+    assert len(ds) < 16  # the validation objects are not in it
+    expect = fit([ds.size(i) for i in range(len(ds))], ds.labels(), 2)
+    assert prior == expect
+    assert np.exp(prior.log_median) == pytest.approx([40 * INCH * 1.175, 10 * INCH * 1.175], rel=0.06)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..augment import Augment
 from ..depth_layer import CameraConfig, DepthCamera
-from ..meshes import yaw_matrix, yawed
+from ..meshes import box_edge, yaw_matrix, yawed
 
 
 class Shapes:
@@ -54,8 +54,7 @@ class Shapes:
             if size is None:
                 return None
             if self.yaws is not None:  # the turned unit box's longest side, times the size
-                vertices = self.ds.mesh(i)[0] @ yaw_matrix(self.yaws[i])
-                size *= float((vertices.max(0) - vertices.min(0)).max())
+                size *= box_edge(self.ds.mesh(i)[0] @ yaw_matrix(self.yaws[i]))
             out.append(size)
         return np.array(out)
 
