@@ -234,7 +234,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         if follow:  # chosen on the validation split, which the judge did not learn from (it stops on it)
             from .view_sets import fixed_path
             fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits(),
-                                        indices=picked_on)
+                                        indices=picked_on, length=cfg.steps - 1)
             if progress:
                 print(f"fixed path {np.round(fixed, 3).tolist()} (shared-classifier accuracy "
                       f"{val_acc:.3f} on the validation split)", flush=True)

@@ -23,13 +23,14 @@ random     -- uniform on the sphere
 straight   -- a straight path round the sphere from the initial view (Pairwise, 3DShapeNets)
 reinforce  -- FC_loc of a model trained with REINFORCE (MV-RNN-style); at test time its mean
 fixed      -- the best fixed path: after the first view, the views (fixed in the object frame, the
-              same for every object) that score best on the training split (view_sets), then
-              random views; the honest test of whether a planner adapts
+              same for every object) that score best on the validation split (view_sets), for as
+              many views as the evaluation takes (random ones after that); the honest test of
+              whether a planner adapts
 imitation  -- FC_view of a model trained to imitate the oracle (train --policy imitation): the
               best-scored candidate view not yet visited; needs no mesh and renders nothing
-fixed+imitation -- the best fixed path's views first, then imitation's: the views known to
-              pay in the object frame, then the ones the model's view head picks from what the
-              path showed (needs no mesh either)
+fixed+imitation -- the best fixed path's first two views (the best pair), then imitation's: the
+              views known to pay in the object frame, then the ones the model's view head picks
+              from what they showed (needs no mesh either)
 oracle     -- PRIVILEGED upper bound: knows the label, renders every candidate view of the
               object and takes the unvisited one after which the episode's answer (the model's
               readout) puts the true class furthest above the strongest other class, so an
@@ -54,6 +55,7 @@ from .validation import InputError
 PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "fixed+imitation",
             "oracle", "greedy")
 FIXED = ("fixed", "fixed+imitation")  # the planners that follow the best fixed path
+PAIR = 2  # fixed+imitation's views from the path after the first: the pair chosen together
 PRIVILEGED = ("oracle", "greedy")  # they render the object's mesh: not for a robot
 
 
@@ -81,11 +83,11 @@ class StraightPlanner:
 
 
 class FixedPlanner:
-    """The views `path` (k, 2) after the first, the same for every object; then the planner
-    `then` (default: random views)."""
+    """The views `path` (k, 2) after the first (its first `views` only, if given), the same for
+    every object; then the planner `then` (default: random views)."""
 
-    def __init__(self, path, seed=0, then=None):
-        self.path = np.asarray(path, dtype=np.float64).reshape(-1, 2)
+    def __init__(self, path, seed=0, then=None, views=None):
+        self.path = np.asarray(path, dtype=np.float64).reshape(-1, 2)[:views]
         self.then = then or RandomPlanner(seed)
 
     def next_view(self, episode, step):
@@ -275,7 +277,9 @@ def make_planner(name, cameras=None, seed=0, candidates=50, model=None, fixed_pa
         if fixed_path is None:
             raise InputError(f"the {name} planner needs its path (the fixed path: "
                              f"view_sets.fixed_path, or a checkpoint that carries 'fixed_path')")
-        return FixedPlanner(fixed_path, seed, ImitationPlanner(model) if name != "fixed" else None)
+        if name == "fixed":
+            return FixedPlanner(fixed_path, seed)
+        return FixedPlanner(fixed_path, seed, ImitationPlanner(model), views=PAIR)
     if cameras is None:
         raise InputError(f"the {name} planner needs the objects' cameras (it is privileged)")
     if name == "greedy":

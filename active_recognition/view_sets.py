@@ -18,7 +18,8 @@ The shared classifier max-pools per-view features, so a set of views is scored f
 features of its members. With every object's features at the 50 candidate views computed once,
 any subset is a max and a linear layer away:
 - `best_fixed_views`: the views, the same for every object and fixed in the object frame, that
-  score best on a split after a random first view (the best a non-adaptive path can do);
+  score best on a split after a random first view (the best a non-adaptive path can do), and
+  `extend_fixed_views`, the path's later views, one at a time;
 - `best_subset_accuracy`: for each object the best k candidates chosen with the true label (a
   privileged ceiling).
 """
@@ -65,6 +66,24 @@ def best_fixed_views(net, features, labels, extra=2, chunk=64):
     return pairs[best], float(correct[best] / (k * len(features)))
 
 
+def extend_fixed_views(net, features, labels, path, extra):
+    """`path` (indices after the first view) extended by `extra` candidates, one at a time: each
+    the one that, added to any first candidate and the path so far, scores best (a greedy
+    search: the best set of 9 among 50 views has too many members to try them all).
+    -> (indices, mean accuracy over first views after each added view)."""
+    path, accs = list(path), []
+    y = torch.as_tensor(labels)[:, None]
+    with torch.no_grad():
+        for _ in range(extra):
+            seen = torch.maximum(features, features[:, path].amax(1, keepdim=True))  # (N, K first, F)
+            score = torch.tensor([float((net.classify(torch.maximum(seen, features[:, c:c + 1]))
+                                         .argmax(-1) == y).float().mean()) for c in range(features.shape[1])])
+            score[path] = -1.0  # a view already on the path adds nothing
+            path.append(int(score.argmax()))
+            accs.append(float(score.max()))
+    return np.array(path), accs
+
+
 def best_subset_accuracy(net, features, labels, size=3):
     """Fraction of objects for which some `size` candidates, chosen with the true label, are
     classified right (the subset with the highest true-class probability)."""
@@ -77,11 +96,12 @@ def best_subset_accuracy(net, features, labels, size=3):
     return float(np.mean(hits))
 
 
-def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None, indices=None):
+def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None, indices=None, length=2):
     """The best fixed path on (a seeded sample of, or the `indices` of) `shapes`, the validation
-    split: the two candidate views (theta, phi), (2, 2), that the shared classifier scores best
-    after a random first view, among the candidates within `limits` (reach.ViewLimits; None: all).
-    -> (path, its accuracy there)."""
+    split: `length` candidate views (theta, phi), (length, 2), among the candidates within
+    `limits` (reach.ViewLimits; None: all), that the shared classifier scores best after a random
+    first view: the best pair, then (length > 2) one view at a time, each the best added to
+    what the path has shown. -> (path, its accuracy there after 3 views)."""
     views = geometry.fibonacci_views(candidates)
     if limits is not None:
         views = limits.initial_views(candidates)
@@ -89,5 +109,7 @@ def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None, ind
     idx = np.asarray(indices) if indices is not None else np.sort(
         rng.permutation(len(shapes))[:objects])
     feats = candidate_features(net, shapes, idx, views)
-    pair, acc = best_fixed_views(net, feats, shapes.labels[idx])
-    return views[pair], acc
+    length = min(length, len(views) - 1)  # each candidate once
+    pair, acc = best_fixed_views(net, feats, shapes.labels[idx], extra=min(2, length))
+    path, _ = extend_fixed_views(net, feats, shapes.labels[idx], pair, max(0, length - 2))
+    return views[path], acc

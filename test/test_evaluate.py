@@ -296,7 +296,7 @@ def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(resu
     seen = {}
 
     def path_on(net, shapes, seed=0, limits=None, indices=None, **kw):
-        seen["raw"], seen["total"] = indices, len(shapes)
+        seen["raw"], seen["total"], seen["length"] = indices, len(shapes), kw.get("length")
         return geometry.fibonacci_views(50)[[3, 7]], 0.5
 
     monkeypatch.setattr(view_sets, "fixed_path", path_on)
@@ -308,6 +308,7 @@ def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(resu
     assert not scored & picked
     assert scored | picked == set(range(seen["total"]))
     assert abs(len(scored) - len(picked)) <= 1
+    assert seen["length"] == val.steps - 1  # the path covers every view after the first
     np.testing.assert_array_equal(res["random"].objects, res["fixed"].objects)
     with pytest.raises(InputError, match="beside the fixed path"):
         evaluate(replace(val, objects=len(scored) + 1), progress=False)

@@ -23,14 +23,17 @@ import torch
 
 from active_recognition import geometry
 from active_recognition.datasets import open_dataset
+from active_recognition.datasets.shapes import Shapes
 from active_recognition.datasets.twins import CLASSES, PAIRS, make_shape
-from active_recognition.depth_layer import DepthCamera
+from active_recognition.depth_layer import CameraConfig, DepthCamera
 from active_recognition.episode import Episode, EpisodeConfig, run
 from active_recognition.losses import ImitationLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner, nearest_candidates
+from active_recognition.reach import ViewLimits
 from active_recognition.shared_classifier import MultiViewClassifier
-from active_recognition.view_sets import best_fixed_views, best_subset_accuracy, subset_logits
+from active_recognition.view_sets import (best_fixed_views, best_subset_accuracy, candidate_features,
+                                          extend_fixed_views, fixed_path, subset_logits)
 
 
 def face_view(axis, sign, tilt=0.0):
@@ -121,6 +124,40 @@ def test_best_fixed_views_match_brute_force(toy):
     assert scores[tuple(pair)] == pytest.approx(max(scores.values()))
 
 
+def test_extend_fixed_views_adds_the_best_view_one_at_a_time(toy):
+    """Each added view is the one that, with every first view and the path so far, classifies
+    the most (object, first view) pairs right: checked object by object, view by view."""
+    net, feats, labels = toy
+    path, accs = extend_fixed_views(net, feats, labels, [2, 5], 3)
+    assert list(path[:2]) == [2, 5] and len(path) == 5 and len(set(path.tolist())) == 5
+    with torch.no_grad():
+        for k in range(2, 5):
+            def score(c):
+                return np.mean([int(net.classify(feats[i, [f, *path[:k], c]].amax(0)).argmax()) == labels[i]
+                                for i in range(5) for f in range(7)])
+            rest = [c for c in range(7) if c not in path[:k]]
+            best = max(score(c) for c in rest)
+            assert score(path[k]) == pytest.approx(best)
+            assert accs[k - 2] == pytest.approx(best)
+    assert len(extend_fixed_views(net, feats, labels, [2, 5], 0)[0]) == 2
+
+
+def test_fixed_path_is_the_best_pair_then_its_extension_within_reach_each_view_once():
+    torch.manual_seed(0)
+    net = MultiViewClassifier(len(CLASSES), feature_size=8).eval()
+    shapes = Shapes(open_dataset("twins", split="test", per_class=1), CameraConfig(64, 64))
+    limits = ViewLimits(min_elevation=0.0)
+    band = limits.initial_views(12)
+    path, acc = fixed_path(net, shapes, candidates=12, limits=limits, length=40)
+    assert len(path) == len(band) - 1  # no more views than the band has candidates, less the first
+    index = nearest_candidates(path, band)
+    assert np.allclose(band[index], path) and len(set(index.tolist())) == len(index)
+    feats = candidate_features(net, shapes, np.arange(len(shapes)), band)
+    pair, pair_acc = best_fixed_views(net, feats, shapes.labels)
+    assert index[:2].tolist() == pair.tolist() and acc == pytest.approx(pair_acc)
+    assert len(fixed_path(net, shapes, candidates=12, limits=limits)[0]) == 2  # the pair, by default
+
+
 def test_best_subset_accuracy_matches_brute_force(toy):
     net, feats, labels = toy
     expected = []
@@ -205,11 +242,12 @@ def test_fixed_planner_follows_its_path_then_looks_at_random():
 
 
 def test_fixed_then_imitation_follows_the_path_then_fc_views_best_unvisited_candidate():
-    """fixed+imitation: the path's views, then FC_view's best-scored candidate among those not
-    visited, the path's own views (snapped to their candidates) counted as visited."""
+    """fixed+imitation: the path's first two views (the pair), then FC_view's best-scored
+    candidate among those not visited, the path's views (snapped to their candidates) counted
+    as visited; the longer path's later views are the fixed planner's only."""
     model = small_model()
     cands = geometry.fibonacci_views(10)
-    path = cands[[4, 7]]
+    path = cands[[4, 7, 1, 8, 9]]
     planner = make_planner("fixed+imitation", model=model, fixed_path=path)
     ep = Episode(model, EpisodeConfig(max_views=8, entropy_threshold=0.0), planner)
     ep.reset(torch.as_tensor(cands[[2, 5]], dtype=torch.float32))
