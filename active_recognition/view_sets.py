@@ -101,7 +101,7 @@ def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None, ind
     split: `length` candidate views (theta, phi), (length, 2), among the candidates within
     `limits` (reach.ViewLimits; None: all), that the shared classifier scores best after a random
     first view: the best pair, then (length > 2) one view at a time, each the best added to
-    what the path has shown. -> (path, its accuracy there after 3 views)."""
+    what the path has shown. -> (path, its accuracy there after its first view and pair)."""
     views = geometry.fibonacci_views(candidates)
     if limits is not None:
         views = limits.initial_views(candidates)
@@ -109,7 +109,7 @@ def fixed_path(net, shapes, candidates=50, objects=400, seed=0, limits=None, ind
     idx = np.asarray(indices) if indices is not None else np.sort(
         rng.permutation(len(shapes))[:objects])
     feats = candidate_features(net, shapes, idx, views)
-    length = min(length, len(views) - 1)  # each candidate once
+    length = max(1, min(length, len(views) - 1))  # each candidate once; one view even for 1-view episodes
     pair, acc = best_fixed_views(net, feats, shapes.labels[idx], extra=min(2, length))
     path, _ = extend_fixed_views(net, feats, shapes.labels[idx], pair, max(0, length - 2))
     return views[path], acc

@@ -156,6 +156,7 @@ def test_fixed_path_is_the_best_pair_then_its_extension_within_reach_each_view_o
     pair, pair_acc = best_fixed_views(net, feats, shapes.labels)
     assert index[:2].tolist() == pair.tolist() and acc == pytest.approx(pair_acc)
     assert len(fixed_path(net, shapes, candidates=12, limits=limits)[0]) == 2  # the pair, by default
+    assert len(fixed_path(net, shapes, candidates=12, limits=limits, length=0)[0]) == 1  # 1-view episodes
 
 
 def test_best_subset_accuracy_matches_brute_force(toy):
