@@ -42,7 +42,7 @@ from pathlib import Path
 
 from common import emit
 
-from active_recognition.datasets import GENERATED, open_dataset
+from active_recognition.datasets import GENERATED, open_splits
 
 FILE_DATASETS = ("modelnet", "shapenet", "folder")
 
@@ -87,12 +87,13 @@ def phase(args):
     from active_recognition.train import Shapes
 
     start_rss, start, cpu = rss_mb(), time.perf_counter(), time.process_time()
-    splits = {s: open_dataset(args.dataset, args.root, s, cache_dir=args.cache_dir)
-              for s in ("train", "test")}
+    splits = open_splits(args.dataset, args.root, ("train", "val", "test"), cache_dir=args.cache_dir)
     out = {"load_s": time.perf_counter() - start, "load_cpu_s": time.process_time() - cpu}
-    for s, ds in splits.items():
-        meshes = [ds.mesh(i) for i in range(len(ds))]
-        out[s] = {"files": len(ds) + len(ds.skipped), "loaded": len(ds),
+    # the dataset's own splits: its training split is train and val together, read once
+    for s, parts in (("train", ("train", "val")), ("test", ("test",))):
+        meshes = [m for p in parts for m in map(splits[p].mesh, range(len(splits[p])))]
+        ds = splits[parts[0]]
+        out[s] = {"files": len(meshes) + len(ds.skipped), "loaded": len(meshes),
                   "converted": ds.loaded["converted"], "from_cache": ds.loaded["cache"],
                   "skipped": ds.skip_counts(), "skipped_files": sorted(p for p, _ in ds.skipped),
                   "vertices": sum(len(v) for v, _ in meshes),
@@ -102,7 +103,8 @@ def phase(args):
         out["rss_meshes_mb"] = rss_mb() - start_rss
         camera = CameraConfig(args.size, args.size, radius=args.radius)
         shapes, before, start = Shapes(splits["train"], camera), rss_mb(), time.perf_counter()
-        shapes.cameras(range(len(shapes)))
+        shapes.cameras(range(len(shapes)))  # one scene per shape training learns from (train less val)
+        out["scenes"] = len(shapes)
         out["scenes_build_s"] = time.perf_counter() - start
         out["rss_train_scenes_mb"] = rss_mb() - before
         out["rss_total_mb"] = rss_mb()
@@ -140,14 +142,14 @@ def file_dataset(args):
           f"warm {warm['load_s']:.1f} s ({warm['load_cpu_s']:.1f} s of CPU); cache {cache_mb:.0f} "
           f"MiB")
     print(f"RSS: meshes of both splits {warm['rss_meshes_mb']:.0f} MiB, plus "
-          f"{warm['rss_train_scenes_mb']:.0f} MiB for the {warm['train']['loaded']} training "
+          f"{warm['rss_train_scenes_mb']:.0f} MiB for the {warm['scenes']} training "
           f"scenes (built in {warm['scenes_build_s']:.1f} s); process {warm['rss_total_mb']:.0f} "
           f"MiB, peak {warm['rss_peak_mb']:.0f} MiB")
     return {"dataset": args.dataset, "cold_s": cold["load_s"], "cold_cpu_s": cold["load_cpu_s"],
             "warm_s": warm["load_s"], "warm_cpu_s": warm["load_cpu_s"], "cache_mb": cache_mb,
             "load_average": os.getloadavg()[0],
             "camera": f"{args.size}x{args.size}, radius {args.radius}",
-            **{k: warm[k] for k in ("rss_meshes_mb", "rss_train_scenes_mb", "scenes_build_s",
+            **{k: warm[k] for k in ("rss_meshes_mb", "rss_train_scenes_mb", "scenes", "scenes_build_s",
                                     "rss_total_mb", "rss_peak_mb")},
             **{s: {k: cold[s][k] for k in ("files", "loaded", "skipped", "skipped_files",
                                            "vertices", "triangles", "mesh_mb")}

@@ -16,6 +16,8 @@
 unusable files remembered with their reasons, entries written whole or not at all."""
 import json
 import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -188,6 +190,28 @@ def test_the_triangle_block_and_the_polygon_walk_parse_alike():
         meshes.parse_off(off_text(verts, polys)[:-1].rsplit(" ", 2)[0])
 
 
+def test_the_load_benchmark_counts_the_whole_training_split_and_the_scenes_training_builds(tmp_path):
+    """benchmarks/dataset_generation.py on a small ModelNet tree: every file of the training split
+    (train and val, read once) and of test, the bad one skipped, and a scene per training shape
+    less the validation ones."""
+    from test_datasets import CUBE_QUADS, CUBE_V, write_off
+    for c in ("bed", "chair"):
+        for split, n in (("train", 10), ("test", 2)):
+            (tmp_path / c / split).mkdir(parents=True)
+            for i in range(n):
+                write_off(tmp_path / c / split / f"{c}_{i:04d}.off", np.array(CUBE_V) * (1 + i), CUBE_QUADS)
+    (tmp_path / "bed" / "train" / "bed_0099.off").write_text("OFF\n3 1 0\n0 0 0\n")  # truncated
+    out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "dataset_generation.py"), "--dataset",
+                          "modelnet", "--root", str(tmp_path), "--size", "16"],
+                         capture_output=True, text=True, check=True)
+    fig = json.loads(out.stdout.strip().splitlines()[-1])
+    assert (fig["train"]["files"], fig["train"]["loaded"], fig["train"]["skipped_files"]) == \
+        (21, 20, [str(tmp_path / "bed" / "train" / "bed_0099.off")])
+    assert (fig["test"]["files"], fig["test"]["loaded"]) == (4, 4)
+    assert fig["scenes"] == 18  # a tenth of each class's 10 is held out for validation
+    assert fig["warm_converted"] == 0 and fig["warm_from_cache"] == 24
+
+
 def test_the_readme_gives_the_committed_modelnet10_load_figures():
     """The README's load times and memory are those of docs/results/modelnet10/loading.json."""
     fig = json.loads((ROOT / "docs" / "results" / "modelnet10" / "loading.json").read_text())
@@ -198,7 +222,7 @@ def test_the_readme_gives_the_committed_modelnet10_load_figures():
                 f"{fig['cold_s']:.1f} s the first time ({fig['cold_cpu_s']:.1f} s of CPU",
                 f"{fig['cache_mb']:.0f} MiB cache), {fig['warm_s']:.1f} s from the cache",
                 f"({fig['rss_meshes_mb']:.0f} MiB resident",
-                f"({fig['rss_train_scenes_mb']:.0f} MiB more for the {fig['train']['loaded']:,} "
+                f"({fig['rss_train_scenes_mb']:.0f} MiB more for the {fig['scenes']:,} "
                 f"scenes, built in {fig['scenes_build_s']:.0f} s)"]
     for text in expected:
         assert text in readme, text
