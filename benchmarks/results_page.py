@@ -528,8 +528,15 @@ def size_prior_part(folder):
              f"({c['chosen']['outlier']}) were chosen on the validation split ({c['objects']} objects, "
              f"{c['starts']} starts; docs/results/modelnet10/size_prior.json), where the mean accuracy "
              f"after 3, 6 and 9 views over {', '.join(base['acc'])} rose from "
-             f"{100 * base['mean']:.2f} % (images alone) to {100 * best['mean']:.2f} %. "
-             "modelnet10_reinforce.pt carries no prior: its row answers from the images alone."]
+             f"{100 * base['mean']:.2f} % (images alone) to {100 * best['mean']:.2f} %."]
+    other = folder / "size_prior_reinforce.json"
+    if other.is_file():  # the REINFORCE row's model, its prior chosen the same way
+        r = json.loads(other.read_text())
+        parts[-1] += (f" modelnet10_reinforce.pt carries its own, chosen the same way (weight "
+                      f"{r['chosen']['weight']}, outlier chance {r['chosen']['outlier']}; "
+                      "docs/results/modelnet10/size_prior_reinforce.json).")
+    else:
+        parts[-1] += " modelnet10_reinforce.pt carries no prior: its row answers from the images alone."
     if alone.is_file():
         a = json.loads(alone.read_text())
         parts += ["", "The same model answering from the images alone (`python benchmarks/planners.py "

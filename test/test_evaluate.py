@@ -186,6 +186,20 @@ def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):
     assert "+25.0 with the shared one" in text and "`imitation` over `fixed`: +20.0" in text
 
 
+def test_results_page_says_which_modelnet10_models_carry_a_size_prior(tmp_path):
+    size_prior_part = load_benchmark("results_page").size_prior_part
+    grid = {f"weight {w} outlier {o}": {"acc": {"random": {"3": m}}, "mean": m}
+            for w, o, m in ((0.0, 0.01, 0.9), (0.25, 0.05, 0.95))}
+    (tmp_path / "size_prior.json").write_text(json.dumps(
+        {"grid": grid, "chosen": {"weight": 0.25, "outlier": 0.05}, "objects": 10, "starts": 3}))
+    text = " ".join(size_prior_part(tmp_path))
+    assert "from 90.00 % (images alone) to 95.00 %" in text and "carries no prior" in text
+    (tmp_path / "size_prior_reinforce.json").write_text(json.dumps({"chosen": {"weight": 0.5, "outlier": 0.2}}))
+    text = " ".join(size_prior_part(tmp_path))
+    assert "carries its own, chosen the same way (weight 0.5, outlier chance 0.2" in text
+    assert "carries no prior" not in text
+
+
 def test_shared_classifier_prefixes_equal_separate_calls():
     from active_recognition.shared_classifier import MultiViewClassifier
     torch.manual_seed(0)
