@@ -49,6 +49,16 @@ def accuracy(probs, labels):
     return {str(k): round(float((probs[:, k - 1].argmax(-1) == labels).mean()), 4) for k in VIEWS}
 
 
+def record_path(model):
+    """Where the record of `model` goes: a shipped ModelNet10 model's is committed beside the
+    tables that RESULTS reads (modelnet10.pt: size_prior.json, modelnet10_reinforce.pt:
+    size_prior_reinforce.json); another model's goes beside its file."""
+    model, shipped = Path(model).resolve(), Path(checkpoint.shipped("modelnet")).resolve()
+    if model.parent == shipped.parent and model.stem.startswith(shipped.stem):
+        return results_dir("modelnet") / f"size_prior{model.stem[len(shipped.stem):]}.json"
+    return model.with_name(f"{model.stem}_size_prior.json")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--root", required=True, help="ModelNet10 root folder")
@@ -56,8 +66,9 @@ def main():
     ap.add_argument("--planners", default="random,straight,imitation")
     ap.add_argument("--starts", type=int, default=3, help="initial views per object")
     ap.add_argument("--write", action="store_true", help="store the chosen prior in the checkpoint")
-    ap.add_argument("--out", default=None, help="JSON (default docs/results/modelnet10/size_prior.json for "
-                                                "the shipped model, else CHECKPOINT_size_prior.json)")
+    ap.add_argument("--out", default=None, help="JSON (default: docs/results/modelnet10/size_prior[_SUFFIX].json for "
+                                                "the shipped modelnet10[_SUFFIX].pt, else "
+                                                "CHECKPOINT_size_prior.json)")
     args = ap.parse_args()
     try:
         run(args)
@@ -88,10 +99,7 @@ def run(args):
     record = {"split": "val", "objects": len(val), "starts": args.starts, "checkpoint": path.name,
               "train_objects": len(train), "grid": grid,
               "chosen": {"weight": best["weight"], "outlier": best["outlier"]}}
-    # the committed record is the shipped model's; another model's goes beside its file
-    out = args.out or (results_dir("modelnet") / "size_prior.json" if args.checkpoint is None
-                       else path.with_name(f"{path.stem}_size_prior.json"))
-    write_json(Path(out), record)
+    write_json(Path(args.out or record_path(path)), record)
     if args.write:
         prior = fit(sizes, train.labels, len(classes), best["weight"], best["outlier"])
         checkpoint.save(path, {k: v for k, v in ckpt.items() if k != "format"} | {"size_prior": prior.to_dict()})
