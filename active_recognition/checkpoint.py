@@ -50,6 +50,10 @@ class CheckpointError(InputError):
 
     def __init__(self, path, reason):
         super().__init__(f"checkpoint {path}: {reason}")
+        self.path, self.reason = path, reason
+
+    def __reduce__(self):  # crosses a process pool as itself (pickle would call __init__(message))
+        return type(self), (self.path, self.reason)
 
 
 def save(path, payload):

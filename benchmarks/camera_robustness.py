@@ -24,7 +24,8 @@ else at 1 m.
 
 Columns: accuracy after 3 views (the answer after the 3rd view, or at the stop if the episode
 stopped sooner: what a robot allowed 3 views would say), accuracy at the stop, mean views.
-Writes docs/results/camera_robustness.json and re-renders docs/RESULTS.md. Last line is JSON:
+Writes docs/results/camera_robustness.json and re-renders docs/RESULTS.md; a run of fewer objects,
+other rows, seed or model must name its own --out. Last line is JSON:
 {"clean": a, "realsense": b, "rows": {name: {"acc_3", "acc_stop", "mean_views"}}}.
 """
 import argparse
@@ -34,9 +35,11 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from common import results_dir
+from common import RESULTS, committed, one_line_errors, output, results_dir
+from results_page import write_results_page
 from tqdm import tqdm
 
+from active_recognition import checkpoint
 from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
@@ -45,6 +48,7 @@ from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.report import write_json
 from active_recognition.simulated_camera import SimulatedCamera, sensor_config
 
+OBJECTS_DEFAULT = 200  # test objects of the committed tables
 # the recognizer node's default: nothing from below the object's support (an opaque floor)
 LIMITS = ViewLimits(0.0, 90.0)
 # name: (camera preset and changes, the recognizer's object_size belief, centre offset x size)
@@ -127,15 +131,22 @@ def main(argv=None):
                     help="whose test objects (modelnet: with --root; the cross-style row is "
                          "procedural's own)")
     ap.add_argument("--root", default=None, help="dataset root folder (modelnet)")
-    ap.add_argument("--objects", type=int, default=200, help="test objects (seeded draw)")
+    ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT, help="test objects (seeded draw)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--rows", nargs="*", default=None, help="rows to run (default: all)")
-    ap.add_argument("--workers", type=int, default=2, help="processes (one row each at a time)")
+    ap.add_argument("--workers", type=int, default=2, help="processes (one row each at a time), >= 1")
     ap.add_argument("--checkpoint", default=None, help="model file (default: the shipped one)")
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/camera_robustness.json, for modelnet "
-                    "docs/results/modelnet10/camera_robustness.json)")
+                    "docs/results/modelnet10/camera_robustness.json; a partial run must give it)")
     args = ap.parse_args(argv)
+    with one_line_errors(ap):
+        run(ap, args)
+
+
+def run(ap, args):
+    if args.workers < 1:
+        ap.error(f"--workers must be at least 1, got {args.workers}")
     if (args.dataset == "modelnet") != bool(args.root):
         ap.error("--root goes with --dataset modelnet, and modelnet needs it")
     rows_here = [r for r in ROWS if args.dataset == "procedural" or "split" not in OBJECTS.get(r, {})]
@@ -143,10 +154,12 @@ def main(argv=None):
     unknown = sorted(set(args.rows) - set(rows_here))
     if unknown:
         ap.error(f"unknown rows {unknown}; choose from {rows_here}")
-    if args.out is None:
-        args.out = str(results_dir(args.dataset) / "camera_robustness.json")
+    partial = [flag for flag, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
+                                     ("--rows", args.rows != rows_here), ("--checkpoint", args.checkpoint)) if on]
+    args.out = output(ap, args.out, str(results_dir(args.dataset) / "camera_robustness.json"), partial)
     if args.checkpoint is None and args.dataset != "procedural":
         args.checkpoint = str(shipped(args.dataset))
+    checkpoint.load_model(args.checkpoint)  # a bad model file: refused here, not in every worker
     n_test = len(open_dataset(args.dataset, args.root, "test", cache_dir=default_cache_dir()))
     if not 1 <= args.objects <= n_test:
         ap.error(f"--objects must be 1..{n_test}")
@@ -170,6 +183,8 @@ def main(argv=None):
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)
         write_json(Path(args.out), result)
+        if committed(args.out):
+            write_results_page(RESULTS.parent / "RESULTS.md", RESULTS)
     print(json.dumps(result))
 
 

@@ -12,13 +12,16 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Helpers shared by the benchmarks: medians of repeated timings, the last-line JSON, and where
-each dataset's results go."""
+"""Helpers shared by the benchmarks: medians of repeated timings, the last-line JSON, where each
+dataset's results go, and one line, not a traceback, for bad input."""
 import json
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
+
+from active_recognition.validation import InputError
 
 RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
 FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results
@@ -27,6 +30,32 @@ FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under
 def results_dir(dataset):
     """The folder of a dataset's committed results (procedural's are docs/results itself)."""
     return RESULTS / FOLDER[dataset]
+
+
+def committed(path):
+    """Whether `path` lies in docs/results, where the committed figures are."""
+    return Path(path).resolve().is_relative_to(RESULTS.resolve())
+
+
+def output(ap, out, default, partial):
+    """Where a run writes: `out` if given, else `default` (the committed figures), which a partial
+    run (the flags named in `partial` set) may not overwrite: it must name its own --out."""
+    if out is not None:
+        return out
+    if partial:
+        ap.error(f"a partial run ({', '.join(partial)}) would overwrite the committed {default}: "
+                 f"pass --out")
+    return default
+
+
+@contextmanager
+def one_line_errors(ap):
+    """Bad input (a root, a model file, an option the library refuses) ends the benchmark as
+    argparse does: one line naming the thing and the reason, exit status 2."""
+    try:
+        yield
+    except InputError as e:
+        ap.error(str(e))
 
 
 def median_ms(fn, repeat=30, warmup=3):

@@ -22,17 +22,20 @@ it in the shipped model, for the recognizer's `auto`) is chosen on the validatio
 a seeded half of the objects and every planner is scored on the other half.
 Writes the report under docs/results/ (docs/results/<dataset>/ for other datasets than
 procedural, docs/results/<dataset>-cross/ for `--split cross`, the held-out styles) and
-re-renders docs/RESULTS.md. Last line is JSON."""
+re-renders docs/RESULTS.md; a smaller or other run (--objects, --starts, --checkpoint,
+--planner-checkpoint) must name its own --out and leaves RESULTS.md as it is. Last line is JSON."""
 import argparse
 from dataclasses import replace
 from pathlib import Path
 
-from common import FOLDER, RESULTS, emit, results_dir
+from common import FOLDER, RESULTS, committed, emit, one_line_errors, output, results_dir
 from results_page import write_results_page
 
 from active_recognition import checkpoint
 from active_recognition.checkpoint import SHIPPED
-from active_recognition.evaluate import EvalConfig, evaluate, summary
+from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.evaluate import EvalConfig, evaluate, halves, summary
+from active_recognition.policies import FIXED
 from active_recognition.report import PAPER_MODELNET10, write_json
 from active_recognition.run_metrics import read_metrics, training_time
 
@@ -66,10 +69,15 @@ def ship(path, s):
 def choose_default(cfg: EvalConfig, out):
     """The default planner: the best of the planners a robot can use (not the oracle) after 3
     views with the model's own classifier, on the validation split (a tie goes to the better
-    after 6 views, then 9). -> (name, {planner: acc after 3 views})."""
+    after 6 views, then 9); with cfg.objects, on as many validation objects, where it holds them.
+    -> (name, {planner: acc after 3 views})."""
     fair = [p for p in cfg.planners if p != "oracle"]
     judge = Path(out) / "shared_classifier.pt"  # the fixed path's judge, the test run's too
-    s = summary(evaluate(replace(cfg, split="val", objects=0, planners=tuple(fair), shared=False,
+    objects = 0
+    if cfg.objects:  # the fixed path is picked on one half of val, every planner scored on the other
+        total = len(open_dataset(cfg.dataset, cfg.root, "val", cache_dir=default_cache_dir()))
+        objects = min(cfg.objects, len(halves(total, cfg.seed)[1]) if set(fair) & set(FIXED) else total)
+    s = summary(evaluate(replace(cfg, split="val", objects=objects, planners=tuple(fair), shared=False,
                                  out=str(Path(out) / "val"), judge=str(judge))))
     acc = {k: v["3"] for k, v in s["acc"].items()}
     # a tie after 3 views (fixed and fixed+imitation share their first 3) goes to the better after 6, then 9
@@ -89,7 +97,9 @@ def main():
     ap.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
     ap.add_argument("--split", default="test", choices=("test", "cross"),
                     help="test, or cross: the held-out styles (a proxy for real objects)")
-    ap.add_argument("--objects", type=int, default=0, help="0: the whole test split")
+    ap.add_argument("--objects", type=int, default=0,
+                    help="0: the whole test split; else a seeded sample of this many test objects, and as "
+                         "many validation objects for the default (a partial run: give --out)")
     ap.add_argument("--starts", type=int, default=3, help="seeded initial views per object (>= 3)")
     ap.add_argument("--out", default=None, help="report folder (default docs/results[/DATASET])")
     ap.add_argument("--min-elevation", type=float, default=-90.0,
@@ -106,6 +116,11 @@ def main():
                     help="write the measured best planner (and the fixed path) into the "
                          "dataset's shipped model, for the recognizer's planner 'auto'")
     args = ap.parse_args()
+    with one_line_errors(ap):
+        run(ap, args)
+
+
+def run(ap, args):
     if args.ship and args.split != "test":
         ap.error("--ship records the default planner for the test split's models; leave out --split")
     if args.ship and args.no_size:
@@ -119,8 +134,13 @@ def main():
     runs = results_dir(args.dataset)
     cross = RESULTS / f"{args.dataset}-cross"  # the held-out styles
     turned = RESULTS / f"{FOLDER[args.dataset] or args.dataset}-yaw{args.yaw:g}"
-    out = Path(args.out) if args.out else cross if args.split == "cross" else \
-        turned if args.yaw else runs / "images_only" if args.no_size else runs
+    partial = [flag for flag, on in (("--objects", args.objects), ("--starts", args.starts != 3),
+                                     ("--checkpoint", args.checkpoint),
+                                     ("--planner-checkpoint", args.planner_checkpoint)) if on]
+    if args.ship and partial:
+        ap.error(f"--ship records what the whole benchmark chose; leave out {', '.join(partial)}")
+    out = Path(output(ap, args.out, cross if args.split == "cross" else turned if args.yaw else
+                      runs / "images_only" if args.no_size else runs, partial))
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
@@ -132,11 +152,15 @@ def main():
         if not Path(path).is_file():
             ap.error(f"{path}: no such model (train it with its config/train_*.yaml, or pass "
                      f"--checkpoint / --planner-checkpoint)")
+        checkpoint.load_model(path)  # a file that is not a model: refused now, not after the validation run
     metrics = {k: getattr(args, f"{k}_metrics") or str(runs / f"{k}_metrics.csv")
                for k in ("learned", "reinforce")}
     for path in metrics.values():
         if not Path(path).is_file():
             ap.error(f"{path}: no such metrics file (train the run first, or pass --*-metrics)")
+    held = len(open_dataset(args.dataset, args.root, args.split, cache_dir=default_cache_dir()))
+    if not 0 <= args.objects <= held:  # refused now, not after the validation run
+        ap.error(f"--objects must be 0 (all) .. {held}, the {args.split} split's objects")
     cfg = EvalConfig(checkpoint=model, planner_checkpoints=own, planners=PLANNERS[args.dataset],
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, out=str(out), min_elevation=args.min_elevation,
@@ -156,7 +180,8 @@ def main():
     write_json(out / "summary.json", s)
     if args.ship:
         ship(MODELS / DEFAULT_CHECKPOINT[args.dataset], s)
-    write_results_page(ROOT / "docs/RESULTS.md", RESULTS)
+    if committed(out):  # a run elsewhere leaves the committed page as it is
+        write_results_page(ROOT / "docs/RESULTS.md", RESULTS)
     for name in s["acc"]:
         print(f"{name:>10}: 3 views {100 * s['acc'][name]['3']:.1f} +- {100 * s['stderr_3'][name]:.1f}"
               f", shared classifier {100 * s['acc_shared'][name]['3']:.1f} +- "
