@@ -40,7 +40,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import emit
+from common import emit, one_line_errors
 
 from active_recognition.datasets import GENERATED, open_splits
 
@@ -117,7 +117,9 @@ def run_phase(args, name, cache):
     cmd = [sys.executable, __file__, "--dataset", args.dataset, "--root", str(args.root),
            "--cache-dir", str(cache), "--phase", name, "--size", str(args.size),
            "--radius", str(args.radius)]
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, text=True, check=True)
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, text=True)
+    if proc.returncode:  # its one-line error (a bad root) is on stderr already: no second traceback
+        sys.exit(proc.returncode)
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
@@ -173,12 +175,13 @@ def main():
     ap.add_argument("--radius", type=float, default=1.0, help="scenes: viewing-sphere radius")
     ap.add_argument("--phase", choices=("cold", "warm"), default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
-    if args.dataset is None:
-        emit(generated(args))
-    elif args.phase:
-        phase(args)
-    else:
-        emit(file_dataset(args))
+    with one_line_errors(ap):
+        if args.dataset is None:
+            emit(generated(args))
+        elif args.phase:
+            phase(args)
+        else:
+            emit(file_dataset(args))
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from common import emit
+from common import emit, one_line_errors
 
 from active_recognition import checkpoint, geometry
 from active_recognition.datasets import default_cache_dir, open_dataset
@@ -73,40 +73,41 @@ def main():
                     help="another model to compare, e.g. canonical=runs/ship_canonical/final.pt")
     ap.add_argument("--out", default=str(ROOT / "docs/results/old_vs_new.json"))
     args = ap.parse_args()
-    old_path = args.old_model
-    if old_path is None:
-        tmp = tempfile.NamedTemporaryFile(suffix=".pt", delete=False)
-        tmp.write(git_show(OLD, "active_recognition/checkpoints/procedural.pt"))
-        tmp.close()
-        old_path = tmp.name
-    models = {"old": checkpoint.load_model(old_path)[0], "new": checkpoint.load_model()[0]}
-    if args.old_model is None:
-        Path(old_path).unlink()  # the copy from git, read
-    for item in args.model:
-        name, sep, path = item.partition("=")
-        if not sep or not name:
-            ap.error(f"--model {item!r}: expected NAME=FILE")
-        models[name] = checkpoint.load_model(path)[0]
-    data = {"old test": old_test_split(OLD)}
-    for s in ("test", "cross"):
-        data[f"new {s}"] = open_dataset("procedural", split=s, cache_dir=default_cache_dir())
-    result = {}
-    for split, ds in data.items():
-        rng = np.random.default_rng(0)
-        idx = np.sort(rng.permutation(len(ds))[:args.objects])
-        views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
-        seen = {}  # each model through its own camera; models with the same camera share one
-        for name, model in models.items():
-            size, radius = model.config.image_size, model.config.radius
-            if (size, radius) not in seen:
-                seen[size, radius] = Shapes(ds, CameraConfig(size, size, radius=radius))
-            shapes = seen[size, radius]
-            for planner in ("learned", "straight"):
-                acc = accuracy(model, shapes, idx, views, planner)
-                result[f"{name} model, {split}, {planner}"] = round(acc, 4)
-                print(f"{name} model on {split:<10} {planner:<9} acc@3 {acc:.3f}", file=sys.stderr)
-    write_json(Path(args.out), result)
-    emit(result)
+    with one_line_errors(ap):
+        old_path = args.old_model
+        if old_path is None:
+            tmp = tempfile.NamedTemporaryFile(suffix=".pt", delete=False)
+            tmp.write(git_show(OLD, "active_recognition/checkpoints/procedural.pt"))
+            tmp.close()
+            old_path = tmp.name
+        models = {"old": checkpoint.load_model(old_path)[0], "new": checkpoint.load_model()[0]}
+        if args.old_model is None:
+            Path(old_path).unlink()  # the copy from git, read
+        for item in args.model:
+            name, sep, path = item.partition("=")
+            if not sep or not name:
+                ap.error(f"--model {item!r}: expected NAME=FILE")
+            models[name] = checkpoint.load_model(path)[0]
+        data = {"old test": old_test_split(OLD)}
+        for s in ("test", "cross"):
+            data[f"new {s}"] = open_dataset("procedural", split=s, cache_dir=default_cache_dir())
+        result = {}
+        for split, ds in data.items():
+            rng = np.random.default_rng(0)
+            idx = np.sort(rng.permutation(len(ds))[:args.objects])
+            views = geometry.fibonacci_views(50)[rng.integers(0, 50, len(idx))]
+            seen = {}  # each model through its own camera; models with the same camera share one
+            for name, model in models.items():
+                size, radius = model.config.image_size, model.config.radius
+                if (size, radius) not in seen:
+                    seen[size, radius] = Shapes(ds, CameraConfig(size, size, radius=radius))
+                shapes = seen[size, radius]
+                for planner in ("learned", "straight"):
+                    acc = accuracy(model, shapes, idx, views, planner)
+                    result[f"{name} model, {split}, {planner}"] = round(acc, 4)
+                    print(f"{name} model on {split:<10} {planner:<9} acc@3 {acc:.3f}", file=sys.stderr)
+        write_json(Path(args.out), result)
+        emit(result)
 
 
 if __name__ == "__main__":

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from common import emit, results_dir
+from common import emit, one_line_errors, results_dir
 
 from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_splits
@@ -38,7 +38,6 @@ from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import EvalConfig, checkpoint_split, rollout, sample_episodes
 from active_recognition.report import write_json
 from active_recognition.size_prior import fit
-from active_recognition.validation import InputError
 
 WEIGHTS = (0.25, 0.5, 0.75, 1.0)
 OUTLIERS = (0.01, 0.05, 0.2)
@@ -70,10 +69,8 @@ def main():
                                                 "the shipped modelnet10[_SUFFIX].pt, else "
                                                 "CHECKPOINT_size_prior.json)")
     args = ap.parse_args()
-    try:
+    with one_line_errors(ap):  # a bad root or model file: one line, not a traceback
         run(args)
-    except InputError as e:  # a bad root or model file: one line, not a traceback
-        ap.error(str(e))
 
 
 def run(args):

@@ -22,7 +22,7 @@ import json
 import tempfile
 from pathlib import Path
 
-from common import emit, results_dir
+from common import emit, one_line_errors, results_dir
 
 from active_recognition.evaluate import EvalConfig, evaluate, summary
 from active_recognition.model import READOUTS
@@ -47,30 +47,31 @@ def main():
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
-    out = Path(args.out or results_dir(args.dataset) / "validation.json")
-    record = json.loads(out.read_text()) if out.is_file() else {}
-    setting = {"objects": args.objects, "starts": args.starts, "min_elevation": args.min_elevation,
-               "yaw": args.yaw}
-    held = {k: record.get(k, {"min_elevation": -90.0, "yaw": 0.0}.get(k)) for k in setting}
-    if record and held != setting:
-        ap.error(f"{out} holds runs with {held}: compare on the same settings (--objects, "
-                 f"--starts, --min-elevation, --yaw), or write to another --out")
-    record.update(split="val", **setting)
-    runs = record.setdefault("runs", {})
-    for item in args.models:
-        name, sep, path = item.partition("=")
-        if not sep:
-            ap.error(f"{item!r}: expected NAME=FILE")
-        with tempfile.TemporaryDirectory() as tmp:
-            s = summary(evaluate(EvalConfig(
-                checkpoint=path, planners=tuple(args.planners.split(",")), dataset=args.dataset,
-                root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
-                shared=False, trajectory_figures=0, readout=args.readout,
-                min_elevation=args.min_elevation, yaw=args.yaw)))
-        runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"], "readout": args.readout or "own"}
-        print(name, {k: v["3"] for k, v in s["acc"].items()})
-    write_json(out, record)
-    emit({"runs": {k: v["acc"] for k, v in runs.items()}})
+    with one_line_errors(ap):
+        out = Path(args.out or results_dir(args.dataset) / "validation.json")
+        record = json.loads(out.read_text()) if out.is_file() else {}
+        setting = {"objects": args.objects, "starts": args.starts, "min_elevation": args.min_elevation,
+                   "yaw": args.yaw}
+        held = {k: record.get(k, {"min_elevation": -90.0, "yaw": 0.0}.get(k)) for k in setting}
+        if record and held != setting:
+            ap.error(f"{out} holds runs with {held}: compare on the same settings (--objects, "
+                     f"--starts, --min-elevation, --yaw), or write to another --out")
+        record.update(split="val", **setting)
+        runs = record.setdefault("runs", {})
+        for item in args.models:
+            name, sep, path = item.partition("=")
+            if not sep:
+                ap.error(f"{item!r}: expected NAME=FILE")
+            with tempfile.TemporaryDirectory() as tmp:
+                s = summary(evaluate(EvalConfig(
+                    checkpoint=path, planners=tuple(args.planners.split(",")), dataset=args.dataset,
+                    root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
+                    shared=False, trajectory_figures=0, readout=args.readout,
+                    min_elevation=args.min_elevation, yaw=args.yaw)))
+            runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"], "readout": args.readout or "own"}
+            print(name, {k: v["3"] for k, v in s["acc"].items()})
+        write_json(out, record)
+        emit({"runs": {k: v["acc"] for k, v in runs.items()}})
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""The table benchmarks (planners.py, camera_robustness.py) as a user runs them: bad input ends
+"""The benchmarks that write tables (planners.py, camera_robustness.py and others) as a user runs them: bad input ends
 in one line naming the thing and the reason, before any long work; a partial run never
 overwrites the committed figures; a checkpoint's error crosses a process pool whole."""
 import pickle
@@ -49,6 +49,12 @@ def run(script, *args):
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("camera_robustness.py", ["--checkpoint", "{tmp}/garbage.pt", "--objects", "1", "--rows", "clean",
                               "--out", "{tmp}/c.json"], "checkpoint {tmp}/garbage.pt: unreadable"),
+    ("dataset_generation.py", ["--dataset", "modelnet", "--root", "{tmp}/nope"],
+     "modelnet dataset root {tmp}/nope: no such directory"),
+    ("dataset_difficulty.py", ["--dataset", "modelnet", "--root", "{tmp}/nope"],
+     "modelnet dataset root {tmp}/nope: no such directory"),
+    ("size_prior.py", ["--root", "{tmp}/nope", "--out", "{tmp}/o"],
+     "modelnet dataset root {tmp}/nope: no such directory"),
     ("camera_robustness.py", ["--workers", "0"], "--workers must be at least 1, got 0"),
     ("camera_robustness.py", ["--rows", "clean"], "a partial run (--rows) would overwrite the committed"),
 ])
