@@ -205,7 +205,8 @@ def check_mesh(path, verts, faces):
         raise MeshError(path, "face indices outside the vertex list")
     if not np.isfinite(verts).all():
         raise MeshError(path, "non-finite vertex coordinates")
-    tri = verts[faces]
+    scale = float(np.abs(verts).max()) or 1.0  # areas in units of the largest coordinate: no
+    tri = verts[faces] / scale                # overflow for huge ones, no underflow for tiny ones
     area = np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
     if not (area > 0).any():
         raise MeshError(path, "degenerate: every face has zero area", "degenerate")

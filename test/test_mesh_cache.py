@@ -18,6 +18,7 @@ import json
 import os
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -101,6 +102,19 @@ def test_unusable_files_are_skipped_and_counted_by_reason(tree, tmp_path, capsys
     err = capsys.readouterr().err
     assert ("modelnet/train: 4 meshes (4 converted, 0 from the cache" in err
             and "3 file(s) skipped (1 corrupt, 1 degenerate, 1 empty)" in err), err
+
+
+def test_a_broken_link_gets_the_same_reason_with_the_cache_or_without(tree, tmp_path):
+    """Before, the cache's key (the file's stat) raised first: 'unreadable' and errno text with
+    the cache, 'no such file' without."""
+    (tree / "chair" / "train" / "gone.off").symlink_to(tmp_path / "nowhere.off")
+    with_cache = open_dataset("modelnet", tree, "train", cache_dir=tmp_path / "cache")
+    without = open_dataset("modelnet", tree, "train", cache_dir=None)
+    gone = str(tree / "chair" / "train" / "gone.off")
+    assert dict(with_cache.skipped)[gone] == dict(without.skipped)[gone]
+    assert "no such file" in dict(with_cache.skipped)[gone]
+    assert with_cache.skip_counts() == without.skip_counts()
+    assert len(list((tmp_path / "cache" / "meshes").glob("*.npz"))) == 7  # nothing kept for it
 
 
 def test_a_changed_file_is_read_again_and_only_that_one(tree, tmp_path, monkeypatch):
@@ -226,3 +240,18 @@ def test_the_readme_gives_the_committed_modelnet10_load_figures():
                 f"scenes, built in {fig['scenes_build_s']:.0f} s)"]
     for text in expected:
         assert text in readme, text
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-200])
+def test_huge_and_tiny_coordinates_normalise_like_any_others_without_warnings(scale):
+    """A file drawn in absurd units is the same shape: its face areas are taken in units of its
+    largest coordinate, so they neither overflow (a RuntimeWarning, before) nor underflow (every
+    face 'zero area', before)."""
+    verts = np.array(TRI_V, dtype=np.float64) + 1
+    faces = np.array([f[1:] for f in TRI_F])
+    want_v, want_f = meshes.check_mesh("unit.off", verts, faces)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got_v, got_f = meshes.check_mesh("scaled.off", verts * scale, faces)
+    np.testing.assert_allclose(got_v, want_v, atol=1e-6)
+    np.testing.assert_array_equal(got_f, want_f)

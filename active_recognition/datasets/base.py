@@ -118,8 +118,8 @@ def convert_mesh(source, cache_dir=None):
     `cache_dir` when given. Raises MeshError (from the cache too) for an unusable file,
     OSError when it cannot be read."""
     path = Path(source)
-    if cache_dir is None:
-        return (*load_mesh(path, edge=True), False)
+    if cache_dir is None or not path.is_file():  # nothing to key an entry on (a broken link): the
+        return (*load_mesh(path, edge=True), False)  # reason is load_mesh's, cache or not
     entry = mesh_cache_path(cache_dir, path)
     cached = load_mesh_entry(entry, path)
     if isinstance(cached, MeshError):
