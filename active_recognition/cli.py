@@ -18,6 +18,8 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import warnings
+from pathlib import Path
 
 from .schedule import SCHEDULES
 from .validation import Check, InputError, SEED_MAX, arg, arg_of, output_dir, output_file
@@ -358,8 +360,16 @@ def build_parser():
 ADDERS = [add_render, add_dataset, add_train, add_evaluate, add_demo]
 
 
+def one_line_warning(message, category, filename, lineno, line=None, default=warnings.formatwarning):
+    """This package's own warnings as one line, as its errors are; others as Python shows them."""
+    if category is UserWarning and Path(__file__).parent in Path(filename).resolve().parents:
+        return f"active-recognition: warning: {message}\n"
+    return default(message, category, filename, lineno, line)
+
+
 def main(argv=None):
     args = build_parser().parse_args(argv)
+    previous, warnings.formatwarning = warnings.formatwarning, one_line_warning
     try:
         return args.func(args) or 0
     except (InputError, OSError) as e:  # bad options, files, checkpoints, meshes; paths
@@ -368,6 +378,8 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"active-recognition {args.command}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        warnings.formatwarning = previous
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ import json
 import os
 import subprocess
 import sys
+import warnings
 
 import matplotlib.image
 import numpy as np
@@ -27,7 +28,7 @@ import torch
 import trimesh
 from conftest import import_ros
 
-from active_recognition import checkpoint, geometry
+from active_recognition import checkpoint, cli, geometry
 from active_recognition.cli import main
 from active_recognition.depth_layer import CameraConfig, DepthCamera
 from active_recognition.meshes import load_mesh
@@ -190,6 +191,27 @@ def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, t
     status, _, err = run(args, capsys)
     assert status == 0 and "through another camera or by another recipe: training it again" in err
     assert checkpoint.read_any(out / "shared_classifier.pt")["trained_on"] != "0" * 64
+
+
+def test_a_warning_of_the_package_is_one_line_and_names_no_source_line(trained, tiny_tree, tmp_path):
+    """evaluate's readout warning, in a real process: before, Python printed it with the file,
+    the line number, 'UserWarning' and the warn() call's source line below it."""
+    status, _, err = run_process(["evaluate", "--dataset", "folder", "--root", tiny_tree, "--checkpoint",
+                                  trained / "final.pt", "--planners", "random", "--no-shared", "--steps", 2,
+                                  "--out", tmp_path / "ev", "--readout", "mean+mirror"])
+    assert status == 0, err
+    said = [line for line in err.splitlines() if "mirror image too" in line]
+    assert len(said) == 1 and said[0].startswith("active-recognition: warning: "), err
+    assert "UserWarning" not in err and "warnings.warn(" not in err
+
+
+def test_warnings_from_elsewhere_keep_their_source():
+    own = cli.one_line_warning("careful", UserWarning, cli.__file__, 3)
+    assert own == "active-recognition: warning: careful\n"
+    foreign = cli.one_line_warning("careful", UserWarning, warnings.__file__, 3)
+    assert foreign == warnings.formatwarning("careful", UserWarning, warnings.__file__, 3)
+    assert "UserWarning" in foreign and warnings.formatwarning is not cli.one_line_warning
+    assert "DeprecationWarning" in cli.one_line_warning("old", DeprecationWarning, cli.__file__, 3)
 
 
 def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, tiny_tree,
