@@ -39,6 +39,7 @@ from active_recognition import geometry
 from active_recognition.datasets import GENERATED, NAMES, default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
+from active_recognition.evaluate import DECIMALS
 from active_recognition.policies import nearest_candidates
 from active_recognition.report import write_json
 from active_recognition.shared_classifier import train_shared
@@ -107,7 +108,7 @@ def main():
                           cross_acc_3_random=x3, cross_style_gap_3=in3 - x3)
             print(f"cross-style: 3 random views {x3:.3f} vs in-style {in3:.3f} "
                   f"(gap {100 * (in3 - x3):.1f} points; target <= 5)")
-        result = {k: round(v, 4) if isinstance(v, float) else v for k, v in result.items()}
+        result = {k: round(v, DECIMALS) if isinstance(v, float) else v for k, v in result.items()}
         if args.out:
             write_json(Path(args.out), result)
         emit(result)

@@ -33,6 +33,7 @@ from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
 from active_recognition.episode import Episode, EpisodeConfig, run
+from active_recognition.evaluate import DECIMALS
 from active_recognition.policies import make_planner
 from active_recognition.report import write_json
 
@@ -104,7 +105,7 @@ def main():
                 shapes = seen[size, radius]
                 for planner in ("learned", "straight"):
                     acc = accuracy(model, shapes, idx, views, planner)
-                    result[f"{name} model, {split}, {planner}"] = round(acc, 4)
+                    result[f"{name} model, {split}, {planner}"] = round(acc, DECIMALS)
                     print(f"{name} model on {split:<10} {planner:<9} acc@3 {acc:.3f}", file=sys.stderr)
         write_json(Path(args.out), result)
         emit(result)

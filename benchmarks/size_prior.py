@@ -35,7 +35,7 @@ from common import emit, one_line_errors, results_dir
 from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_splits
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.evaluate import EvalConfig, checkpoint_split, rollout, sample_episodes
+from active_recognition.evaluate import DECIMALS, EvalConfig, checkpoint_split, rollout, sample_episodes
 from active_recognition.report import write_json
 from active_recognition.size_prior import fit
 
@@ -45,7 +45,7 @@ VIEWS = (3, 6, 9)
 
 
 def accuracy(probs, labels):
-    return {str(k): round(float((probs[:, k - 1].argmax(-1) == labels).mean()), 4) for k in VIEWS}
+    return {str(k): round(float((probs[:, k - 1].argmax(-1) == labels).mean()), DECIMALS) for k in VIEWS}
 
 
 def record_path(model):
@@ -91,7 +91,7 @@ def run(args):
                for name, ro in runs.items()}
         grid[f"weight {weight} outlier {outlier}"] = {
             "weight": weight, "outlier": outlier, "acc": acc,
-            "mean": round(float(np.mean([a[str(k)] for a in acc.values() for k in VIEWS])), 4)}
+            "mean": round(float(np.mean([a[str(k)] for a in acc.values() for k in VIEWS])), DECIMALS)}
     best = max(grid.values(), key=lambda g: g["mean"])
     record = {"split": "val", "objects": len(val), "starts": args.starts, "checkpoint": path.name,
               "train_objects": len(train), "grid": grid,
