@@ -58,10 +58,13 @@ def add_render(sub):
 
 
 def cmd_dataset(args):
-    from .datasets import default_cache_dir, describe
+    from .datasets import GENERATED, default_cache_dir, describe
 
     if args.contact_sheet is not None:
         output_file(args.contact_sheet, "--contact-sheet", ".png")
+    if args.sheet_split == "cross" and args.name not in GENERATED:  # refused before the indexing
+        raise InputError(f"--sheet-split cross: the held-out styles are a generated benchmark's "
+                         f"({', '.join(GENERATED)}); {args.name} has test")
     cache = None if args.no_cache else output_dir(
         default_cache_dir() if args.cache_dir is None else args.cache_dir,
         "--cache-dir" if args.cache_dir is not None else "cache folder (ACTIVE_RECOGNITION_CACHE)")
@@ -287,6 +290,9 @@ def cmd_evaluate(args):
                      max_elevation=args.max_elevation, readout=args.readout, yaw=args.yaw,
                      size=not args.no_size)
     s = summary(evaluate(cfg, runs=runs))
+    if args.steps < 3:  # the tables are after 3, 6 and 9 views
+        print(f"active-recognition evaluate: note: episodes of {args.steps} view(s) have no accuracy after 3, 6 or "
+              f"9 views; the accuracy after each view is in {args.out}/accuracy_vs_views.png", file=sys.stderr)
     print(f"report: {args.out}/report.md")
     print(json.dumps(s["acc"]))
 

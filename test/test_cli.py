@@ -176,6 +176,8 @@ def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, t
                                "--steps", 2, "--out", out], capsys)
     assert status == 0, err
     assert "shared_classifier.pt is not usable" in err and "training it again" in err
+    assert "episodes of 2 view(s) have no accuracy after 3, 6 or 9 views" in err
+    assert (out / "accuracy_vs_views.png").is_file()  # where the note sends the user
     assert checkpoint.read_any(out / "shared_classifier.pt")["kind"] == "shared_multiview"
     summary = json.loads((out / "summary.json").read_text())
     assert summary["acc"] == {"random": {}} and "stderr_3" not in summary  # no 3rd view to score
@@ -278,6 +280,9 @@ def test_render_refuses(files, capsys, argv, message):
     (["--objects-per-class", "0"], "argument --objects-per-class: must be an integer from 1 to 20"),
     (["--views-per-object", "9"], "argument --views-per-object: must be an integer from 1 to 5"),
     (["--seed", "-1"], "argument --seed: must be an integer from 0 to 4294967295, got '-1'"),
+    (["--name", "modelnet", "--root", "{files}/nothing", "--contact-sheet", "{files}/s.png", "--sheet-split",
+      "cross"], "--sheet-split cross: the held-out styles are a generated benchmark's (procedural, twins); "
+                "modelnet has test"),
 ])
 def test_dataset_refuses(files, capsys, argv, message):
     argv = ["dataset", *[a.format(files=files) for a in argv]]
