@@ -327,6 +327,20 @@ def test_generated_benchmarks_have_a_validation_split_and_file_ones_no_cross(tmp
         open_dataset("modelnet", tmp_path / "m", "cross")
 
 
+@pytest.mark.parametrize("per_class, held", [(5, 0), (6, 1)])
+def test_a_validation_split_too_small_to_hold_anything_is_said(tmp_path, per_class, held):
+    """A tenth of each class, rounded: 5 objects give none (and a warning), 6 give one."""
+    import warnings
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        val = open_dataset("procedural", split="val", cache_dir=tmp_path, per_class=per_class)
+    assert set(val.class_counts()) == {held}
+    assert [str(w.message) for w in said if "validation split is empty" in str(w.message)] == (
+        [] if held else ["procedural: the validation split is empty (a tenth of each class of train, rounded: no "
+                         "class has 6 objects): training reports no per-epoch figures, and nothing can be chosen "
+                         "on it"])
+
+
 def test_shapes_with_a_yaw_turn_each_object_by_its_own_seeded_yaw_within_the_bound():
     """Shapes(yaw=30): each camera holds the dataset's mesh turned by its own yaw (meshes.yawed),
     every yaw within +-30 degrees, the same for the same seed and another for another; the

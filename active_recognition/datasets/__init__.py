@@ -16,6 +16,7 @@
 (procedural, twins)."""
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -84,7 +85,7 @@ def read_split(name, root, source, cache_dir=None, validate=True, **kwargs):
 
 def validation_split(ds: ShapeDataset, split, fraction=VAL_FRACTION, seed=VAL_SEED):
     """The `val` or the `train` part of a training split `ds`: `val` holds a seeded `fraction`
-    of each class (rounded: none of a class of fewer than 5), `train` the rest, both in the
+    of each class (rounded: none of a class of 5 or fewer), `train` the rest, both in the
     split's order."""
     labels = ds.labels()
     held = np.zeros(len(ds), dtype=bool)
@@ -94,6 +95,10 @@ def validation_split(ds: ShapeDataset, split, fraction=VAL_FRACTION, seed=VAL_SE
         held[np.random.default_rng([seed, int(label)]).choice(idx, n, replace=False)] = True
     ds.keep(np.flatnonzero(held if split == "val" else ~held))
     ds.split = split
+    if split == "val" and not len(ds) and len(labels):
+        warnings.warn(f"{ds.name}: the validation split is empty (a tenth of each class of train, rounded: "
+                      f"no class has 6 objects): training reports no per-epoch figures, and nothing can be "
+                      f"chosen on it")
     return ds
 
 
