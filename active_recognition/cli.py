@@ -288,7 +288,7 @@ def cmd_evaluate(args):
                      entropy_threshold=args.entropy_threshold, seed=args.seed, out=args.out,
                      shared=not args.no_shared, min_elevation=args.min_elevation,
                      max_elevation=args.max_elevation, readout=args.readout, yaw=args.yaw,
-                     size=not args.no_size)
+                     size=not args.no_size, judge=args.judge, keep_judge=args.judge is not None)
     s = summary(evaluate(cfg, runs=runs))
     if args.steps < 3:  # the tables are after 3, 6 and 9 views
         print(f"active-recognition evaluate: note: episodes of {args.steps} view(s) have no accuracy after 3, 6 or "
@@ -329,6 +329,11 @@ def add_evaluate(sub):
     p.add_argument("--seed", type=SEED, default=0, help="objects, initial views, random planner")
     p.add_argument("--out", default="runs/eval", help="report folder")
     p.add_argument("--no-shared", action="store_true", help="skip the shared multi-view classifier")
+    p.add_argument("--judge", default=None,
+                   help="a trained shared classifier to score with and pick the fixed path by, used as "
+                        "it is (e.g. docs/results/modelnet10/shared_classifier.pt); refused if trained on "
+                        "other shapes or through another camera (default: OUT/shared_classifier.pt, "
+                        "trained there first, minutes)")
     p.add_argument("--min-elevation", type=own("min_elevation"), default=-90.0,
                    help="degrees: views from no lower; the initial views are the paper's 50 above it "
                         "(-90: the whole sphere, the paper's)")

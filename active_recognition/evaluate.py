@@ -62,6 +62,7 @@ class EvalConfig:
     shared: bool = option(True)             # also score every planner with the shared classifier
     # where the shared classifier is kept (trained once for its shapes and camera); None: in out
     judge: str | None = option(None, kind=str, optional=True, length=(1, None))
+    keep_judge: bool = option(False)        # judge is the user's file: used as it is, never trained over
     oracle_candidates: int = option(50, lo=1, hi=10_000)
     trajectory_figures: int = option(3, lo=0, hi=100)
     # the views a robot can take (reach.ViewLimits, degrees of elevation): the initial views are
@@ -200,6 +201,10 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
             raise InputError(f"planner checkpoint {name}={path}: no such planner (planners: "
                              f"{', '.join(PLANNERS)})")
         input_file(path, "checkpoint")
+    if cfg.keep_judge:  # the user's judge: a missing file is refused now, not after the data loads
+        if cfg.judge is None:
+            raise InputError("keep_judge needs judge, the shared classifier's file")
+        input_file(cfg.judge, "judge")
     out = output_dir(cfg.out, "out")
     model, classes, test, ckpt = checkpoint_split(cfg.checkpoint, cfg)
     follow = any(p in FIXED for p in cfg.planners)  # a planner needs the fixed path
@@ -229,8 +234,8 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         from .shared_classifier import load_or_train
         parts = open_splits(cfg.dataset, cfg.root, ("train", "val"), default_cache_dir())
         train, val = (Shapes(parts[s], test.camera, cfg.yaw, cfg.seed) for s in ("train", "val"))
-        net = load_or_train(Path(cfg.judge or out / "shared_classifier.pt"), train, classes, seed=cfg.seed,
-                            progress=progress, val=val)
+        net = load_or_train(Path(cfg.judge or out / "shared_classifier.pt"), train, classes, cfg.keep_judge,
+                            seed=cfg.seed, progress=progress, val=val)
         if follow:  # chosen on the validation split, which the judge did not learn from (it stops on it)
             from .view_sets import fixed_path
             fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits(),

@@ -28,6 +28,7 @@ from tqdm import tqdm
 
 from . import checkpoint, geometry
 from .model import compact_encoder
+from .validation import InputError
 
 
 # how a judge is trained: a cached one trained otherwise is trained again
@@ -121,10 +122,13 @@ def fingerprint(shapes):
     return h.hexdigest()
 
 
-def load_or_train(path, shapes, classes, **kwargs):
+def load_or_train(path, shapes, classes, given=False, **kwargs):
     """The shared classifier at `path`, trained and saved there first if missing, or if it was
-    trained on other shapes or through another camera (`fingerprint`)."""
+    trained on other shapes or through another camera (`fingerprint`). A `given` file (the
+    user's --judge) is never trained over: InputError unless it fits."""
     key = fingerprint(shapes)
+    if given and not path.is_file():
+        raise InputError(f"judge {path}: no such file")
     if path.exists():
         try:
             ckpt = checkpoint.read_any(path)
@@ -133,11 +137,12 @@ def load_or_train(path, shapes, classes, **kwargs):
                 net = MultiViewClassifier(len(classes))
                 net.load_state_dict(ckpt["model"])
                 return net.eval()
-            print(f"{path} was trained on other shapes, through another camera or by another recipe: "
-                  f"training it again",
-                  file=sys.stderr)
+            stale = "was trained on other shapes, through another camera or by another recipe"
         except (checkpoint.CheckpointError, RuntimeError, TypeError) as e:  # a damaged cache
-            print(f"{path} is not usable ({str(e)[:200]}): training it again", file=sys.stderr)
+            stale = f"is not usable ({str(e)[:200]})"
+        if given:
+            raise InputError(f"judge {path} {stale}: leave out --judge to train one in --out")
+        print(f"{path} {stale}: training it again", file=sys.stderr)
     net = train_shared(shapes, len(classes), **kwargs)
     checkpoint.save(path, {"model": net.state_dict(), "model_args": {}, "classes": list(classes),
                            "kind": "shared_multiview", "trained_on": key})

@@ -216,6 +216,33 @@ def test_warnings_from_elsewhere_keep_their_source():
     assert "DeprecationWarning" in cli.one_line_warning("old", DeprecationWarning, cli.__file__, 3)
 
 
+def test_evaluate_scores_with_a_given_judge_as_it_is_and_never_trains_over_it(
+        trained, tiny_tree, tmp_path, capsys):
+    base = ["evaluate", "--dataset", "folder", "--root", tiny_tree, "--checkpoint", trained / "final.pt",
+            "--planners", "random,fixed", "--steps", 3]
+    status, first, err = run([*base, "--out", tmp_path / "a"], capsys)
+    assert status == 0, err
+    judge = tmp_path / "a" / "shared_classifier.pt"
+    kept = judge.read_bytes()
+    status, again, err = run([*base, "--out", tmp_path / "b", "--judge", judge], capsys)
+    assert status == 0 and again.splitlines()[-1] == first.splitlines()[-1], err
+    assert not (tmp_path / "b" / "shared_classifier.pt").exists() and judge.read_bytes() == kept
+    assert json.loads((tmp_path / "b" / "summary.json").read_text())["acc_shared"] == \
+        json.loads((tmp_path / "a" / "summary.json").read_text())["acc_shared"]
+    stale = checkpoint.read_any(judge)
+    stale["trained_on"] = "0" * 64  # as if trained on other shapes
+    stale.pop("format")
+    checkpoint.save(tmp_path / "stale.pt", stale)
+    kept = (tmp_path / "stale.pt").read_bytes()
+    refused([*base, "--out", tmp_path / "c", "--judge", tmp_path / "stale.pt"],
+            f"judge {tmp_path / 'stale.pt'} was trained on other shapes, through another camera or by "
+            f"another recipe: leave out --judge to train one in --out", capsys)
+    assert (tmp_path / "stale.pt").read_bytes() == kept
+    refused([*base, "--out", tmp_path / "d", "--judge", tmp_path / "none.pt"],
+            f"judge {tmp_path / 'none.pt'}: no such file", capsys)
+    assert not (tmp_path / "d").exists()  # refused before any work
+
+
 def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, tiny_tree,
                                                                          tmp_path, capsys):
     out = tmp_path / "run"
