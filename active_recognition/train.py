@@ -295,8 +295,8 @@ class Trainer:
         if stage == "joint" and self.state["epoch"] == self.state["batch"] == 0 and cfg.initial_step is not None:
             set_initial_step(self.model, cfg.initial_step)
         opt = self.optimizer(stage)
-        # pre-training leaves FC_loc unused; DDP must be told, or it waits for its gradients
-        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=stage == "pretrain")
+        # a head left unused (FC_loc in pre-training and undistilled imitation): DDP must know, or it waits
+        net = (nn.parallel.DistributedDataParallel(wrapper, find_unused_parameters=True)
                if self.world > 1 else wrapper)
         for epoch in range(self.state["epoch"], epochs):
             losses, accs = (self.loc_round if stage == "loc" else self.epoch)(stage, epoch, epochs, net, opt)

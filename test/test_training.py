@@ -142,10 +142,13 @@ os._exit(0)  # as the CLI does: skip an interpreter teardown that gloo/embree th
 """
 
 
-def test_two_process_torchrun_on_cpu_agrees(tmp_path):
+@pytest.mark.parametrize("policy", [{}, {"policy": "imitation", "model": {**TINY["model"], "candidates": 8}}])
+def test_two_process_torchrun_on_cpu_agrees(tmp_path, policy):
+    """The end-to-end policy and imitation, whose joint stage leaves FC_loc without a gradient:
+    DDP stopped there ('Expected to have finished reduction') before it was told of unused heads."""
     script = tmp_path / "ddp.py"
     script.write_text(TORCHRUN_SCRIPT)
-    cfg = {**TINY, "out": str(tmp_path / "ddp"), "joint_epochs": 1}
+    cfg = {**TINY, "out": str(tmp_path / "ddp"), "joint_epochs": 1, **policy}
     # a session of its own, so a hang kills the launcher and both workers, not the launcher alone
     proc = subprocess.Popen([sys.executable, "-m", "torch.distributed.run", "--nproc_per_node=2",
                              "--standalone", str(script), repr(cfg)], stdout=subprocess.PIPE,
