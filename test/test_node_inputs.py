@@ -93,6 +93,9 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
         (info(640, 480, 385.0, 385.0, 319.5, 239.5, k8=0.0), "depth/camera_info", "k[8]"),
         (info(640, 480, 385.0, 1e5, 319.5, 239.5), "depth/camera_info", "k[4] (fy)"),
         (info(0, 480, 385.0, 385.0, 319.5, 239.5), "depth/camera_info", "camera size 0x480"),
+        # the camera is unknown again: an image waits, not guessed through (it reached the model, before)
+        (stamped(ma.metres_to_image(np.full((480, 640), 0.8, np.float32)), recognizer), "depth/image",
+         "the latest camera_info was refused (camera_info: camera size 0x480"),
         (stamped(pose("world"), recognizer), "camera/pose", "header.frame_id 'world'"),
         (stamped(pose(position=(1e6, 0.0, 0.0)), recognizer), "camera/pose", "pose.position"),
         (stamped(pose(w=2.0), recognizer), "camera/pose", "unit quaternion"),
@@ -125,6 +128,9 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
         result = recognizer.set_parameters([Parameter(name, value=value)])[0]
         assert not result.successful and why in result.reason, (name, result.reason)
     assert recognizer.sensing.object_size == 1.0 and recognizer.view_timeout == 0.5
+    logged = {f"parameter {n}" for n in ("object_size", "standoff", "view_timeout", "max_retries",
+                                         "max_clock_offset")}
+    assert logged <= set(recognizer.refuse.last)  # each in the log: one refusal hides no other
     result = recognize(executor, client)  # the simulated camera's good inputs from here on
     assert result is not None and result["status"] == "recognized", result
     assert result["label"] == "bathtub"  # procedural/test[0]

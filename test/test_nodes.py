@@ -322,6 +322,7 @@ def test_a_stream_without_poses_faster_than_the_pose_tolerance_is_still_processe
      "min_elevation (50) must not exceed max_elevation (10)"),
     ("simulated_camera", ["-p", "dropout:=1.5"], "parameter dropout must be a finite number in"),
     ("simulated_camera", ["-p", "index:=100000"], "index 100000 is out of range"),
+    ("recognizer", ["--params-file", "/nonexistent/params.yaml"], "Couldn't parse params file"),  # a traceback
 ])
 def test_a_node_that_cannot_start_says_why_in_one_line_and_exits_2(node, args, message):
     p = subprocess.run([sys.executable, "-m", f"active_recognition.nodes.{node}", "--ros-args",

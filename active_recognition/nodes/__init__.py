@@ -99,7 +99,11 @@ def run_node(node_class, args=None):
 
     from active_recognition.validation import InputError
 
-    rclpy.init(args=args)
+    try:
+        rclpy.init(args=args)
+    except Exception as e:  # RCLError: a --params-file that is missing or not YAML, a bad --ros-args
+        print(f"{node_class.__name__}: error: {' '.join(str(e).split())}", file=sys.stderr)
+        return 2
     node = None
     try:
         try:

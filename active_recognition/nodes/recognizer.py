@@ -146,6 +146,7 @@ class Recognizer(Node):
         self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
         self.poses = deque(maxlen=200)  # (stamp seconds, position, optical rotation)
         self.intrinsics, self.pending, self.request_stamp, self.told = None, None, None, set()
+        self.info_refused = None  # why the latest camera_info was refused, until one passes
         self.expect_poses = True  # until an image has waited in vain for its pose
         self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, "
                                f"planner {self.core.planner}")
@@ -163,11 +164,15 @@ class Recognizer(Node):
             self.get_logger().info(text)
 
     def on_parameters(self, params):
+        values = {}
         try:
-            values = {p.name: check_parameter(CHECKS, p.name, p.value) for p in params}
+            for p in params:
+                name = p.name  # each parameter's refusals are throttled apart: one hides no other
+                values[name] = check_parameter(CHECKS, name, p.value)
+            name = "sensing"
             sensing = replace(self.sensing, **{k: v for k, v in values.items() if k in SENSING})
         except InputError as e:
-            self.refuse("parameter", f"parameter refused: {e}")
+            self.refuse(f"parameter {name}", f"parameter refused: {e}")
             return SetParametersResult(successful=False, reason=str(e))
         self.sensing = sensing
         for name in TIMING:
@@ -206,8 +211,11 @@ class Recognizer(Node):
         try:
             k = plausible.check_intrinsics(ma.camera_info_to_intrinsics(msg))
         except ValueError as e:  # AdapterError, InputError
+            # the camera is unknown again: images wait for a CameraInfo that passes, rather than
+            # reach the model through the last one or a guess
+            self.intrinsics, self.info_refused = None, str(e)
             return self.refuse("depth/camera_info", f"camera_info refused: {e}")
-        self.intrinsics = k
+        self.intrinsics, self.info_refused = k, None
 
     def on_pose(self, msg):
         try:
@@ -302,6 +310,9 @@ class Recognizer(Node):
         except ma.AdapterError as e:
             return self.reject(str(e))
         k = self.intrinsics
+        if k is None and self.info_refused:
+            return self.reject(f"the latest camera_info was refused ({self.info_refused}): waiting for "
+                               f"one that passes")
         if k is None:
             self.once("info", "no CameraInfo on depth/camera_info yet: assuming the model's own "
                               "camera (its field of view at the image's size)")
