@@ -64,6 +64,7 @@ def train_shared(shapes, num_classes, epochs=15, batch=32, max_views=10, seed=0,
     turned by an unknown yaw) gets the time it needs; one that has is left as it was."""
     torch.manual_seed(seed)
     rng = np.random.default_rng(seed)
+    batch = min(batch, len(shapes))  # fewer shapes than a batch: one batch of them all, not none
     net = MultiViewClassifier(num_classes)
     opt = torch.optim.Adam(net.parameters(), 1e-3)
     best = state = None

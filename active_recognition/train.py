@@ -35,7 +35,7 @@ from tqdm import tqdm
 
 from . import checkpoint, size_prior
 from .augment import Augment
-from .datasets import NAMES, default_cache_dir, open_splits
+from .datasets import NAMES, default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig, GRADIENT_RULES
 from .devices import distributed, resolve_device
@@ -240,8 +240,7 @@ class Trainer:
             raise InputError(f"{self.train_ds.layout or cfg.dataset}: {len(self.classes)} class "
                              f"{self.classes}; recognising needs at least 2")
         if cfg.max_shapes:  # a seeded subset with every class in it
-            n = len(self.train_ds)
-            self.train_ds.keep(np.sort(np.random.default_rng(cfg.seed).permutation(n)[:cfg.max_shapes]))
+            self.train_ds.keep(subset_with_every_class(self.train_ds.labels(), cfg.max_shapes, cfg.seed))
 
     def load_pretrained(self):
         """A joint stage run on its own starts from the run's pretrained.pt."""

@@ -383,3 +383,18 @@ def test_a_simulated_camera_opens_a_split_once_for_every_object_it_shows(tmp_pat
     sc.load_object(dataset="twins", split="test", index=1)
     assert len(opened) == 2
     sc.opened.cache_clear()
+
+
+def test_a_subset_of_max_shapes_holds_every_class_and_is_the_plain_draw_where_that_does():
+    from active_recognition.datasets import subset_with_every_class
+    labels = np.array([0] * 90 + [1] * 5 + [2] * 5)  # a plain draw of 4 misses classes for most seeds
+    for seed in range(20):
+        got = subset_with_every_class(labels, 4, seed)
+        assert len(got) == 4 and set(labels[got]) == {0, 1, 2} and list(got) == sorted(set(got))
+        np.testing.assert_array_equal(got, subset_with_every_class(labels, 4, seed))  # seeded
+        plain = np.sort(np.random.default_rng(seed).permutation(100)[:40])
+        if set(labels[plain]) == {0, 1, 2}:  # where the plain draw holds every class, it is kept
+            np.testing.assert_array_equal(subset_with_every_class(labels, 40, seed), plain)
+    assert len(subset_with_every_class(labels, 1000, 0)) == 100
+    with pytest.raises(InputError, match="max_shapes = 2 cannot hold an object of each of the 3 classes"):
+        subset_with_every_class(labels, 2, 0)

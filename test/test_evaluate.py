@@ -380,6 +380,21 @@ def test_the_judge_goes_on_while_validation_rises_and_keeps_its_best(monkeypatch
         assert torch.equal(v, states[0][k]), k
 
 
+def test_a_judge_of_fewer_shapes_than_a_batch_still_learns():
+    """10 shapes and batches of 32: one batch of all ten an epoch. Before, no batch at all, and
+    the fixed path was picked by the untrained judge."""
+    import active_recognition.shared_classifier as shared
+    from active_recognition.datasets import open_dataset
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+
+    shapes = Shapes(open_dataset("procedural", split="test", per_class=1), CameraConfig(64, 64))
+    torch.manual_seed(0)
+    untrained = shared.MultiViewClassifier(10).state_dict()
+    net = shared.train_shared(shapes, 10, epochs=1, batch=32, max_views=2, progress=False)
+    assert any(not torch.equal(v, untrained[k]) for k, v in net.state_dict().items())
+
+
 def test_the_judges_validation_score_of_a_constant_classifier_is_its_class_share():
     import active_recognition.shared_classifier as shared
     from active_recognition.datasets import open_dataset

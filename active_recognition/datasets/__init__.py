@@ -102,6 +102,20 @@ def validation_split(ds: ShapeDataset, split, fraction=VAL_FRACTION, seed=VAL_SE
     return ds
 
 
+def subset_with_every_class(labels, n, seed):
+    """Sorted indices of a seeded sample of n of the objects with these labels, every class in it:
+    the first n of a seeded order, where each class's first object in that order is moved in if it
+    falls later (so where the first n hold every class, it is exactly them)."""
+    labels = np.asarray(labels)
+    classes = np.unique(labels)
+    if n < len(classes):
+        raise InputError(f"max_shapes = {n} cannot hold an object of each of the {len(classes)} classes")
+    order = np.random.default_rng(seed).permutation(len(labels))
+    first = {int(order[np.argmax(labels[order] == c)]) for c in classes}
+    rest = [int(i) for i in order if int(i) not in first]
+    return np.sort(np.array(sorted(first) + rest[:max(0, n - len(first))], dtype=np.int64))
+
+
 def describe(name, root=None, cache_dir=None):
     """Print a dataset's class counts per split and its skipped files (with why); warn of a class
     a split lacks. -> {split: dataset}. InputError, saying what was looked for, when empty."""
