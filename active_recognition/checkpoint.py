@@ -131,12 +131,17 @@ def nonfinite(state_dict):
     return None
 
 
+STATE = ("stage", "epoch", "batch", "step")  # where a run is (a resumable checkpoint's "state")
+
+
 def read_fitting(path, config: ModelConfig, classes, resumable=False, grow_loc=False):
     """A checkpoint of this run's model (same options and classes; `resumable`: with its training
     state), to resume from or to start the joint stage from; CheckpointError naming what differs.
     `grow_loc`: a checkpoint without FC_loc's hidden layer fits a run with one (loc_hidden)."""
     ckpt = read(path)
     build_model(ckpt, path)  # its own weights are sound
+    if list(ckpt["classes"]) != list(classes):
+        raise CheckpointError(path, f"classes {ckpt['classes']} are not the dataset's {list(classes)}")
     theirs, ours = ModelConfig(**ckpt["model_args"]).to_dict(), config.to_dict()
     grown = grow_loc and theirs["loc_hidden"] == 0
     differ = [f"{k} {theirs[k]!r}, this run {ours[k]!r}" for k in ours
@@ -144,15 +149,28 @@ def read_fitting(path, config: ModelConfig, classes, resumable=False, grow_loc=F
     if differ:
         raise CheckpointError(path, "written with other model options (" + "; ".join(differ) +
                                     "): use the same options, or another --out")
-    if list(ckpt["classes"]) != list(classes):
-        raise CheckpointError(path, f"classes {ckpt['classes']} are not the dataset's {list(classes)}")
     state = ckpt.get("state")
     if resumable and not (isinstance(state, dict) and isinstance(ckpt.get("optimizer"), dict)
-                          and all(type(state.get(k)) is int and state[k] >= 0
-                                  for k in ("stage", "epoch", "batch", "step"))
+                          and all(type(state.get(k)) is int and state[k] >= 0 for k in STATE)
                           and type(ckpt.get("elapsed")) in (int, float)):
         raise CheckpointError(path, "holds no training state to resume from")
     return ckpt
+
+
+# the settings that fix a run's batches and episodes: a resume with others would not continue it
+RESUME_FIXED = ("dataset", "seed", "batch_size", "views_per_shape", "max_shapes", "policy", "steps")
+
+
+def check_resume_settings(path, saved, config):
+    """CheckpointError when the run at `path` was trained with other RESUME_FIXED settings than
+    `config` (dicts of TrainConfig; a checkpoint without its config is taken as it is)."""
+    if not isinstance(saved, dict):
+        return
+    differ = [f"{k} {saved[k]!r}, this run {config[k]!r}" for k in RESUME_FIXED
+              if k in saved and saved[k] != config[k]]
+    if differ:
+        raise CheckpointError(path, "was trained with other settings (" + "; ".join(differ) + "): resume with "
+                                    "the run's own, or start afresh in another --out")
 
 
 def load_model(path=None, expect_classes=None):

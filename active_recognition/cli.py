@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -107,14 +108,16 @@ def cmd_train(args):
                                            "view_input", "candidates", "memory", "readout", "loc_hidden", "loc_step")}
     cfg = preset_config(args.config, flags, model)
     train(cfg)
-    print(f"checkpoints in {cfg.out}: {', '.join(written_checkpoints(cfg.out))}")
+    if int(os.environ.get("RANK", 0)) == 0:  # under torchrun, once
+        print(f"checkpoints in {cfg.out}: {', '.join(written_checkpoints(cfg.out))}")
     finish_distributed()
 
 
 def written_checkpoints(out):
     from pathlib import Path
-    return [f"{name}{note}" for name, note in (("last.pt", " (resumable)"), ("final.pt", ""))
-            if (Path(out) / name).exists()]
+    notes = {"pretrained.pt": " (after pre-training: --stage joint starts from it)", "last.pt": " (resumable)",
+             "final.pt": ""}
+    return [f"{name}{note}" for name, note in notes.items() if (Path(out) / name).exists()]
 
 
 def add_train(sub):

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import os
 from pathlib import Path
 
@@ -90,6 +91,12 @@ def render_markdown(results, s, cfg):
               + "; ".join(f"{k} {a} / {b} / {c}" for k, (a, b, c) in PAPER.items()) + ".",
               "", "![accuracy](accuracy_vs_views.png) ![gain](information_gain.png)",
               "", "![trajectories](trajectories.png)"]
+    if "per_class_3" in s and "classes" in s:  # episodes of 3 views or more
+        names = list(s["per_class_3"])
+        parts += ["", "### Accuracy (%) of each class after 3 views", "",
+                  table([[c] + ["-" if math.isnan(s["per_class_3"][n][i]) else f"{100 * s['per_class_3'][n][i]:.1f}"
+                                for n in names] for i, c in enumerate(s["classes"])], ["class", *names]),
+                  "", "![confusion after 3 views](confusion.png)"]
     return "\n".join(parts) + "\n"
 
 

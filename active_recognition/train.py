@@ -59,14 +59,12 @@ class TrainConfig:
     root: str | None = option(None, kind=str, optional=True, length=(1, None))
     out: str = option("runs/procedural", length=(1, None))
     stage: str = option("all", choices=STAGES + ("all",))
-    # learned (end to end) | reinforce | hybrid (both) | imitation
-    policy: str = option("learned", choices=POLICIES)
+    policy: str = option("learned", choices=POLICIES)  # learned (end to end), reinforce, hybrid (both), imitation
     imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the teacher
     distill_loc: float = option(0.0, lo=0)  # imitation: FC_loc's loss toward the teacher's view (the paper's head)
     revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
     random_views: float = option(0.0, lo=0, hi=1)   # chance a training step looks anywhere new
-    # the views a robot can take (reach.ViewLimits, degrees of elevation in the object frame): every
-    # training view, first and later, keeps inside; the default is the whole sphere
+    # the views a robot can take (reach.ViewLimits, degrees of elevation): every training view keeps inside
     min_elevation: float = option(-90.0, lo=-90, hi=90)
     max_elevation: float = option(90.0, lo=-90, hi=90)
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
@@ -91,7 +89,7 @@ class TrainConfig:
     seed: int = option(0, lo=0, hi=SEED_MAX)
     device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N")
     resume: bool = option(False)
-    max_shapes: int = option(0, lo=0)           # use only the first N training shapes (0: all)
+    max_shapes: int = option(0, lo=0)           # a seeded N of the training shapes, each class in it (0: all)
     yaw: bool = option(False)                   # augment: objects turned by a random yaw
     yaw_range: float = option(180.0, lo=0, hi=180, lo_open=True)  # degrees: that yaw within +-this
     frame_error: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: frame off by up to this
@@ -170,7 +168,9 @@ def train(cfg: TrainConfig, progress=True):
         run.stage("joint", joint_loss(cfg, run.model, run.corrupt))
     if cfg.loc_epochs and run.wants("loc"):
         if (run.state["stage"], run.state["epoch"]) < (STAGES.index("joint"), cfg.joint_epochs):  # FC_view untrained
-            raise InputError(f"stage loc: {cfg.out} has not finished its joint stage; resume it with --stage all first")
+            done = run.state["epoch"] if run.state["stage"] == STAGES.index("joint") else 0
+            raise InputError(f"stage loc: {cfg.out} has trained {done} of the {cfg.joint_epochs} joint epochs "
+                             f"asked (--joint-epochs); resume it with --stage all first")
         run.stage("loc", LocLoss(run.model, cfg.steps, cfg.imitation_mix, run.corrupt, cfg.limits()))
     return run.finish()
 
@@ -219,6 +219,7 @@ class Trainer:
             ckpt = checkpoint.read_fitting(self.ckpt_path, self.mcfg, self.classes, resumable=True,
                                            grow_loc=True)
             self.state, elapsed = dict(ckpt["state"]), ckpt["elapsed"]
+            checkpoint.check_resume_settings(self.ckpt_path, ckpt.get("config"), asdict(cfg))
             # a run without FC_loc's hidden layer takes one before stage loc, as a fresh run has it
             grown = ckpt["model_args"].get("loc_hidden", 0) != self.mcfg.loc_hidden
             if grown and self.state["stage"] >= STAGES.index("loc"):
@@ -226,7 +227,7 @@ class Trainer:
             self.model.load_state_dict(ckpt["model"], strict=not grown)
             self.opt_state = ckpt["optimizer"]
             self.rows, self.saved = read_metrics(self.metrics_path), self.state["step"]
-            self.log(f"resumed from {self.ckpt_path} at {self.state}")
+            self.log(f"resumed from {self.ckpt_path} at {({k: self.state[k] for k in checkpoint.STATE})}")
         self.load_pretrained()
         self.start = time.perf_counter() - elapsed
 
@@ -286,7 +287,7 @@ class Trainer:
     def stage(self, stage, wrapper):
         s, cfg = STAGES.index(stage), self.cfg
         if s > self.state["stage"]:
-            self.state.update(stage=s, epoch=0, batch=0)
+            self.state.update(stage=s, epoch=0, batch=0, losses=[], accs=[])
             self.opt_state = None
         epochs = getattr(cfg, f"{stage}_epochs")
         if self.state["epoch"] >= epochs:  # finished before a resume: nothing to build
@@ -299,7 +300,7 @@ class Trainer:
                if self.world > 1 else wrapper)
         for epoch in range(self.state["epoch"], epochs):
             losses, accs = (self.loc_round if stage == "loc" else self.epoch)(stage, epoch, epochs, net, opt)
-            self.state.update(epoch=epoch + 1, batch=0)
+            self.state.update(epoch=epoch + 1, batch=0, losses=[], accs=[])
             self.log_epoch(stage, epoch, losses, accs)
             self.save_state(opt)
         # free DDP's reducer now: left to reference cycles it outlives destroy_process_group, and gloo's
@@ -312,7 +313,7 @@ class Trainer:
         todo = batches(len(self.shapes), cfg.batch_size, cfg.seed, stage, epoch, self.rank, self.world)
         bar = tqdm(range(self.state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
                    disable=not self.progress or self.rank != 0, file=sys.stderr, leave=False)
-        losses, accs = [], []
+        losses, accs = list(self.state.get("losses", [])), list(self.state.get("accs", []))  # kept by a resume
         for b in bar:
             rng = np.random.default_rng([cfg.seed, s, epoch, b, self.rank])
             torch.manual_seed(int(rng.integers(2 ** 31)))
@@ -326,7 +327,7 @@ class Trainer:
             losses.append(loss.item())
             accs.append(acc.item())
             bar.set_postfix(loss=f"{np.mean(losses[-20:]):.3f}", acc=f"{np.mean(accs[-20:]):.3f}")
-            self.state.update(batch=b + 1, step=self.state["step"] + 1)
+            self.state.update(batch=b + 1, step=self.state["step"] + 1, losses=losses, accs=accs)
             if self.state["step"] % cfg.checkpoint_every == 0:
                 self.save_state(opt)
         return losses, accs

@@ -249,7 +249,8 @@ def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, 
     status, stdout, err = run(["train", "--config", files / "preset.yaml", *TINY_TRAIN, "--root",
                                tiny_tree, "--out", out, "--eval-shapes", 0], capsys)
     assert status == 0, err
-    assert stdout.strip().splitlines()[-1] == f"checkpoints in {out}: last.pt (resumable), final.pt"
+    assert stdout.strip().splitlines()[-1] == (f"checkpoints in {out}: pretrained.pt (after pre-training: --stage "
+                                               f"joint starts from it), last.pt (resumable), final.pt")
     config = checkpoint.read(out / "final.pt")["config"]
     assert config["joint_epochs"] == 1 and config["steps"] == 2 and config["lr_joint"] == 0.001
 

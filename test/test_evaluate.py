@@ -292,6 +292,12 @@ def test_per_class_accuracy_and_confusion_agree_with_a_direct_count(results):
             assert (math.isnan(want) and math.isnan(got)) or abs(got - round(want, 6)) < 1e-9
     written = json.loads((out / "summary.json").read_text())
     assert written["classes"][0] == "bathtub" and (out / "confusion.png").is_file()
+    report = (out / "report.md").read_text()  # the README says the report holds them
+    assert "![confusion after 3 views](confusion.png)" in report
+    for c, name in enumerate(written["classes"]):
+        cells = ["-" if math.isnan(written["per_class_3"][p][c]) else f"{100 * written['per_class_3'][p][c]:.1f}"
+                 for p in written["per_class_3"]]
+        assert f"| {name} | {' | '.join(cells)} |" in report, name
 
 
 def test_results_page_puts_modelnet10_beside_the_papers_table(results, tmp_path):

@@ -284,8 +284,42 @@ def test_stage_loc_waits_for_a_finished_joint_stage(tmp_path):
     imitation = {**TINY, "policy": "imitation", "joint_epochs": 1, "model": {**TINY["model"], "candidates": 8}}
     train(TrainConfig(**imitation, stage="pretrain", out=str(tmp_path / "a")), progress=False)
     grown = {**imitation, "loc_epochs": 1, "model": {**imitation["model"], "loc_hidden": 4}}
-    with pytest.raises(InputError, match="has not finished its joint stage"):
+    with pytest.raises(InputError, match=r"has trained 0 of the 1 joint epochs asked \(--joint-epochs\); resume it "
+                                         r"with --stage all first$"):
         train(TrainConfig(**grown, stage="loc", resume=True, out=str(tmp_path / "a")), progress=False)
     assert checkpoint.read(tmp_path / "a" / "last.pt")["state"]["stage"] == 0  # nothing was written
     with pytest.raises(InputError, match="stage loc fits FC_loc of a run trained before"):
         train(TrainConfig(**grown, stage="loc", resume=True, out=str(tmp_path / "none")), progress=False)
+
+
+def test_a_run_stopped_after_an_epochs_last_batch_resumes_to_its_whole_loss(tmp_path, monkeypatch):
+    """Saved after the last batch of pre-training's first epoch, stopped before that epoch's row:
+    the resumed run logs the epoch's loss over all its batches, as the run that never stopped did.
+    Before, it logged NaN (no batch left to run); from mid-epoch, the loss of the rest alone."""
+    from active_recognition import train as train_module
+    from active_recognition.run_metrics import read_metrics
+    cfg = {**TINY, "pretrain_epochs": 2, "joint_epochs": 0, "checkpoint_every": 1}
+    train(TrainConfig(**cfg, out=str(tmp_path / "straight")), progress=False)
+    real = train_module.Trainer.log_epoch
+
+    def stop(self, *args):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(train_module.Trainer, "log_epoch", stop)
+    with pytest.raises(KeyboardInterrupt):
+        train(TrainConfig(**cfg, out=str(tmp_path / "stopped")), progress=False)
+    monkeypatch.setattr(train_module.Trainer, "log_epoch", real)
+    assert checkpoint.read(tmp_path / "stopped" / "last.pt")["state"]["epoch"] == 0
+    train(TrainConfig(**cfg, out=str(tmp_path / "stopped"), resume=True), progress=False)
+    straight, resumed = (read_metrics(tmp_path / r / "metrics.csv") for r in ("straight", "stopped"))
+    assert [(r["epoch"], r["loss"], r["train_acc"]) for r in resumed] == \
+        [(r["epoch"], r["loss"], r["train_acc"]) for r in straight]
+
+
+def test_a_resume_with_settings_that_fix_the_batches_changed_is_refused(tmp_path):
+    out = str(tmp_path / "run")
+    train(TrainConfig(**{**TINY, "joint_epochs": 0}, out=out), progress=False)
+    with pytest.raises(CheckpointError, match=r"was trained with other settings \(seed 3, this run 4; "
+                                              r"batch_size 6, this run 5\)"):
+        train(TrainConfig(**{**TINY, "joint_epochs": 1, "seed": 4, "batch_size": 5}, out=out, resume=True),
+              progress=False)
+    train(TrainConfig(**{**TINY, "joint_epochs": 1, "eval_shapes": 0}, out=out, resume=True), progress=False)
