@@ -344,3 +344,12 @@ def test_bad_parameters_at_run_time_are_refused_and_the_node_keeps_its_settings(
     assert recognizer.set_parameters([Parameter("object_size", value=2.0)])[0].successful
     assert recognizer.sensing.object_size == 2.0
     assert recognize(executor, client) is not None  # and it still recognises
+
+
+def test_the_camera_shows_every_split_a_dataset_has():
+    """val (where choices are made) and cross (held-out styles) too; it refused them before."""
+    with ros_session() as (ctx, executor):
+        for split, label in (("val", "procedural/val[0]"), ("cross", "procedural/cross[0]")):
+            camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("split", value=split)])
+            assert camera.sim.description.startswith(label), camera.sim.description
+            camera.destroy_node()

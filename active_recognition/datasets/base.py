@@ -249,7 +249,7 @@ def check_split(split):
 
 def check_root(root, layout):
     if root is None or str(root) == "":
-        raise InputError(f"the {layout} dataset needs its root folder (--root DIR)")
+        raise InputError(f"the {layout} dataset needs its root folder (--root DIR; a node's parameter root)")
     root = Path(root)
     if not root.is_dir():
         raise InputError(f"{layout} dataset root {root}: "

@@ -30,8 +30,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
-from active_recognition.datasets import NAMES
-from active_recognition.datasets.base import SPLITS
+from active_recognition.datasets import NAMES, SPLITS
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
 from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
@@ -60,7 +59,7 @@ PARAMS = {  # name: (default, type, description)
     "mesh": ("", STR, "mesh file to show; empty = an object of `dataset`"),
     "dataset": ("procedural", STR, "procedural, twins, modelnet, shapenet or folder"),
     "root": ("", STR, "dataset root (not for procedural)"),
-    "split": ("test", STR, "train or test"),
+    "split": ("test", STR, "train, val, test or cross (a generated benchmark's held-out styles)"),
     "index": (0, INT, "which object of the dataset split"),
     "frame_id": ("camera_depth_optical_frame", STR, "frame_id of the images"),
     "seed": (0, INT, "seed of the noise, the pose error and the unanswered requests"),
