@@ -295,7 +295,7 @@ def test_render_refuses(files, capsys, argv, message):
     (["--name", "folder", "--root", "{files}/mn"], "no objects (train or test) found in folder"),
     (["--name", "modelnet", "--root", "{files}/nothing"], "nothing: no such directory"),
     (["--name", "modelnet", "--root", "{files}/a_file"], "a_file: is not a directory"),
-    (["--name", "modelnet"], "the modelnet dataset needs its root folder (--root DIR)"),
+    (["--name", "modelnet"], "the modelnet dataset needs its root folder (--root DIR; a node's parameter root)"),
     (["--name", "modelnet", "--root", "{files}/a_dir"], "has no <class>/train/ or <class>/test/"),
     (["--name", "procedural", "--root", "{files}/mn"], "the procedural dataset is generated"),
     (["--name", "imagenet"], "argument --name: invalid choice: 'imagenet'"),

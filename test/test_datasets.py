@@ -198,7 +198,7 @@ def test_unknown_dataset_and_missing_root_are_clear_errors(tmp_path):
         open_dataset("imagenet")
     with pytest.raises(InputError, match="nope: no such directory"):
         open_dataset("modelnet", tmp_path / "nope")
-    with pytest.raises(InputError, match=r"needs its root folder \(--root DIR\)"):
+    with pytest.raises(InputError, match=r"needs its root folder \(--root DIR; a node's parameter root\)"):
         open_dataset("modelnet")
     (tmp_path / "file").write_text("x")
     with pytest.raises(InputError, match="file: is not a directory"):
