@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import sys
 import warnings
 from pathlib import Path
@@ -100,7 +99,7 @@ def add_dataset(sub):
 def cmd_train(args):
     import dataclasses
 
-    from .devices import finish_distributed
+    from .devices import distributed, finish_distributed
     from .train import TrainConfig, preset_config, train
 
     flags = {f.name: getattr(args, f.name, None) for f in dataclasses.fields(TrainConfig)}
@@ -108,7 +107,7 @@ def cmd_train(args):
                                            "view_input", "candidates", "memory", "readout", "loc_hidden", "loc_step")}
     cfg = preset_config(args.config, flags, model)
     train(cfg)
-    if int(os.environ.get("RANK", 0)) == 0:  # under torchrun, once
+    if distributed(cfg.device)[0] == 0:  # under torchrun, once
         print(f"checkpoints in {cfg.out}: {', '.join(written_checkpoints(cfg.out))}")
     finish_distributed()
 

@@ -28,7 +28,7 @@ from tqdm import tqdm
 
 from . import checkpoint, geometry
 from .model import compact_encoder
-from .validation import InputError
+from .validation import InputError, input_file
 
 
 # how a judge is trained: a cached one trained otherwise is trained again
@@ -128,8 +128,8 @@ def load_or_train(path, shapes, classes, given=False, **kwargs):
     trained on other shapes or through another camera (`fingerprint`). A `given` file (the
     user's --judge) is never trained over: InputError unless it fits."""
     key = fingerprint(shapes)
-    if given and not path.is_file():
-        raise InputError(f"judge {path}: no such file")
+    if given:
+        input_file(path, "judge")
     if path.exists():
         try:
             ckpt = checkpoint.read_any(path)
