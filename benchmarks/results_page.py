@@ -74,7 +74,7 @@ def write_results_page(path, results):
 
 
 def summary(results):
-    """Procedural's summary (planners.py's), which every page has."""
+    """The procedural benchmark's planners.py output, which every page has."""
     return json.loads((Path(results) / "summary.json").read_text())
 
 
@@ -158,8 +158,8 @@ def study(path):
     rows = [[label] + [pct(acc[p][k - 1]) for p in ("learned", "random", "straight")]
             + [pct(acc["learned"][k - 1] - max(acc["random"][k - 1], acc["straight"][k - 1]), "+.1f")]
             for label, acc in data["acc"].items()]
-    return {"views": k, "table": table(rows, ["run", "own view head", "random", "straight",
-                                               "own head - best baseline"])}
+    header = ["run", "own view head", "random", "straight", "own head - best baseline"]
+    return {"views": k, "table": table(rows, header)}
 
 
 def procedural_more(results):
