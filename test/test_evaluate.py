@@ -187,17 +187,35 @@ def test_results_page_puts_our_tables_beside_the_paper(results, tmp_path):
 
 
 def test_results_page_says_which_modelnet10_models_carry_a_size_prior(tmp_path):
-    size_prior_part = load_benchmark("results_page").size_prior_part
+    page = load_benchmark("results_page")
+
+    def text():
+        names = ("modelnet_size", "modelnet_size_reinforce", "modelnet_size_none")
+        return " ".join(" ".join(page.fill(n, page.BUILDERS[n](tmp_path)).split()) for n in names)
+
     grid = {f"weight {w} outlier {o}": {"acc": {"random": {"3": m}}, "mean": m}
             for w, o, m in ((0.0, 0.01, 0.9), (0.25, 0.05, 0.95))}
-    (tmp_path / "size_prior.json").write_text(json.dumps(
+    (tmp_path / "modelnet10").mkdir()
+    assert text() == "  "  # no prior chosen: nothing said
+    (tmp_path / "modelnet10" / "size_prior.json").write_text(json.dumps(
         {"grid": grid, "chosen": {"weight": 0.25, "outlier": 0.05}, "objects": 10, "starts": 3}))
-    text = " ".join(size_prior_part(tmp_path))
-    assert "from 90.00 % (images alone) to 95.00 %" in text and "carries no prior" in text
-    (tmp_path / "size_prior_reinforce.json").write_text(json.dumps({"chosen": {"weight": 0.5, "outlier": 0.2}}))
-    text = " ".join(size_prior_part(tmp_path))
-    assert "carries its own, chosen the same way (weight 0.5, outlier chance 0.2" in text
-    assert "carries no prior" not in text
+    assert "from 90.00 % (images alone) to 95.00 %" in text() and "carries no prior" in text()
+    (tmp_path / "modelnet10" / "size_prior_reinforce.json").write_text(
+        json.dumps({"chosen": {"weight": 0.5, "outlier": 0.2}}))
+    assert "carries its own, chosen the same way (weight 0.5, outlier chance 0.2" in text()
+    assert "carries no prior" not in text()
+
+
+def test_results_page_names_a_template_section_without_its_value(tmp_path, monkeypatch):
+    page = load_benchmark("results_page")
+    template = tmp_path / "template.md"
+    template.write_text("intro, not on the page\n<!-- section a -->\nx {{one}} {{two}}\n")
+    monkeypatch.setattr(page, "TEMPLATE", template)
+    assert page.fill("a", {"one": 1, "two": "2"}) == "x 1 2" and page.fill("a", None) == ""
+    with pytest.raises(KeyError, match="section a: no value for two"):
+        page.fill("a", {"one": 1})
+    with pytest.raises(KeyError, match="BUILDERS differ in"):
+        page.page_text(tmp_path)
 
 
 def test_size_prior_records_of_shipped_models_go_where_the_results_page_reads_them(tmp_path):
@@ -257,15 +275,15 @@ def test_a_mirror_readout_on_a_model_trained_without_mirrored_shapes_is_warned_o
 
 
 def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):
-    study_section = load_benchmark("results_page").study_section
-    assert study_section(tmp_path / "missing.json", "S", "", []) == []
+    study = load_benchmark("results_page").study
+    assert study(tmp_path / "missing.json") is None
     acc = {"a": {"learned": [0.5, 0.9], "random": [0.5, 0.8], "straight": [0.5, 0.85]},
            "b": {"learned": [0.5, 0.7], "random": [0.5, 0.75], "straight": [0.5, 0.6]}}
     (tmp_path / "s.json").write_text(json.dumps({"views": 2, "starts": 1, "acc": acc}))
-    text = "\n".join(study_section(tmp_path / "s.json", "Study", "intro", ["cmd"]))
-    assert "## Study: accuracy (%) after 2 views" in text and "cmd" in text
-    assert "| a | 90.0 | 80.0 | 85.0 | +5.0 |" in text
-    assert "| b | 70.0 | 75.0 | 60.0 | -5.0 |" in text
+    values = study(tmp_path / "s.json")
+    assert values["views"] == 2
+    assert "| a | 90.0 | 80.0 | 85.0 | +5.0 |" in values["table"]
+    assert "| b | 70.0 | 75.0 | 60.0 | -5.0 |" in values["table"]
 
 
 def test_a_checkpoint_of_other_classes_is_refused(results, tmp_path):
