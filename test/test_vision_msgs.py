@@ -39,6 +39,7 @@ import msg_adapters as ma  # noqa: E402
 from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recorder import RELIABLE, Recorder, vision_topics  # noqa: E402
+from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 # The RIHS01 hashes of vision_msgs 4.1 as its own build generates them
@@ -187,6 +188,16 @@ def test_diagnostics_arrive_intact(publisher):
     assert ma.status_values(status) == {"image rate (Hz)": "14.25", "frames refused: encoding": "3",
                                         "active": "true"}
     assert msg.header.stamp.sec >= 1 and msg == messages(msg.header.stamp.sec)[1]
+
+
+def test_the_definitions_hold_the_nested_types():
+    sections = message_definition("vision_msgs/msg/Classification").split(SEPARATOR + "\n")
+    assert "ObjectHypothesis[] results" in sections[0]
+    assert sorted(s.splitlines()[0] for s in sections[1:]) == [
+        "MSG: builtin_interfaces/msg/Time", "MSG: std_msgs/msg/Header",
+        "MSG: vision_msgs/msg/ObjectHypothesis"]
+    label_info = message_definition("vision_msgs/msg/LabelInfo")
+    assert "MSG: vision_msgs/msg/VisionClass\n" in label_info and "uint16 class_id" in label_info
 
 
 def test_the_recorder_writes_vision_msgs_that_mcap_ros2_decodes(tmp_path):
