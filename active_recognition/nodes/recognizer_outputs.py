@@ -110,7 +110,7 @@ def end_header(node, last):
 def diagnostics(node, now):
     """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is monotonic seconds."""
     level, message = node.health.level(now, node.view_timeout, node.state == "active")
-    values = {"state": node.state, "model": node.model_file or "not loaded"}
+    values = {"state": node.state, "model": node.model_file or "", "model loaded": node.core is not None}
     if node.core is not None:
         values.update({"classes": len(node.core.classes), "planner": node.core.planner})
     values["image_qos"] = node.image_qos
