@@ -16,9 +16,12 @@
 """One way to check what a user gives: options, presets, node parameters, command-line numbers.
 
 A dataclass field made with `option(default, ...)` carries a `Check` (type, range, choices,
-length, nested options) in its metadata. `validate(obj)` applies every field's check (call it in
-__post_init__), `check_mapping(cls, values)` names unknown keys, nested ones too, `arg(check)`
-turns a check into an argparse type, and `load_yaml` names the file and line of a syntax error.
+length, nested options) and its help in its metadata: it is the one definition of that option,
+from which options.py makes the flags and node parameters. `nested(cls)` holds a dataclass of
+options (flat: its keys beside the outer ones). `validate(obj)` applies every field's check (call
+it in __post_init__), `check_mapping(cls, values)` names unknown keys, nested ones too, `group`
+and `as_dict` map flat names to nested fields and back, `arg(check)` turns a check into an
+argparse type, and `load_yaml` names the file and line of a syntax error.
 NaN and infinity are refused wherever a number is read. Every refusal is an `InputError` whose
 message names the key, the value and what is allowed.
 """
@@ -252,7 +255,8 @@ def arg(check):
             value = check.kind(text) if check.kind in (int, float) else text
             return check("", value)
         except ValueError:  # int("x"), float("x") and InputError alike
-            raise argparse.ArgumentTypeError(f"must be {check.allowed()}, got {text!r}") from None
+            words = dataclasses.replace(check, optional=False).allowed()  # no null on a command line
+            raise argparse.ArgumentTypeError(f"must be {words}, got {text!r}") from None
     parse.__name__ = check.kind.__name__  # argparse names the type in some messages
     parse.check = check  # for the generated reference (options.py)
     return parse
