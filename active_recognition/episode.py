@@ -34,8 +34,9 @@ MAX_VIEWS = 1000  # an episode longer than this is a typo, not a plan
 
 @dataclass
 class EpisodeConfig:
-    max_views: int = option(10, lo=1, hi=MAX_VIEWS)
-    entropy_threshold: float = option(0.1, lo=0)  # nats; 0 = never stop early
+    max_views: int = option(10, lo=1, hi=MAX_VIEWS, help="stop after this many views")
+    entropy_threshold: float = option(0.1, lo=0, help="stop once the entropy of the class "
+                                                      "probabilities (nats) is below this; 0 = never early")
 
     def __post_init__(self):
         validate(self)

@@ -57,23 +57,32 @@ def choose_planner(name, model, ckpt):
 
 @dataclass
 class SensingConfig:
-    # metres: the object box's longest edge (a real object: 1 mm to 100 m)
-    object_size: float = option(1.0, lo=1e-3, hi=100)
-    # metres from the object's centre to the camera (up to plausible.MAX_DISTANCE); 0 = auto
-    standoff: float = option(0.0, lo=0, hi=100)
-    # fewer object pixels (share of the model's image): the image is empty
-    min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
-    max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
-    box_margin: float = option(0.1, lo=0, hi=1)  # keep points this far (x object_size) outside
-    # at the first view, move the object's centre toward the centre of the box of what it sees
-    # (along the axes it sees whole; the first TRUSTED ignored), as a detector's centre is off:
-    # at most this far (x object_size); 0 = trust the frame
-    recentre: float = option(0.25, lo=0, hi=1)
-    # so many views in a row found unreachable (view_unreachable) end the episode: no_image
-    max_unreachable_views: int = option(2, lo=1, hi=MAX_VIEWS)
-    # weigh what object_size says of the class, where the checkpoint carries a size prior
-    # (size_prior.py; modelnet10.pt): a night stand and a dresser differ most in size
-    use_size: bool = option(True)
+    # a real object: 1 mm to 100 m
+    object_size: float = option(1.0, lo=1e-3, hi=100, help=(
+        "metres: longest edge of the object's bounding box (from the next reset)"))
+    # up to plausible.MAX_DISTANCE
+    standoff: float = option(0.0, lo=0, hi=100, help=(
+        "metres from the object's centre to the camera in next_view; 0 = auto: the object's "
+        "bounding sphere fills the CameraInfo's narrower field of view with 10 % to spare"))
+    min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True, help=(
+        "an image showing less of the object (share of the model's pixels) is not classified; "
+        "the view is asked for again"))
+    max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS, help=(
+        "so many empty images in a row end the episode: no_object"))
+    box_margin: float = option(0.1, lo=0, hi=1, help=(
+        "keep points this far (x object_size) outside the object's box"))
+    # along the axes it sees whole; the first TRUSTED ignored
+    recentre: float = option(0.25, lo=0, hi=1, help=(
+        "at an object's first view, move its centre toward the centre of the box of what the view "
+        "sees (a detector's centre is off; the first 5 % ignored), at most this far "
+        "(x object_size); 0 = trust the object frame"))
+    max_unreachable_views: int = option(2, lo=1, hi=MAX_VIEWS, help=(
+        "so many unreachable views in a row, or none left, end the episode: no_image (defaults: "
+        "a silent camera ends an episode in 12 s)"))
+    # size_prior.py: a night stand and a dresser differ most in size
+    use_size: bool = option(True, help=(
+        "weigh what object_size says of the class, where the checkpoint carries a size prior "
+        "(modelnet10.pt); false when object_size is a guess"))
 
     def __post_init__(self):
         validate(self)

@@ -43,6 +43,8 @@ from active_recognition import checkpoint
 from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
+from active_recognition.evaluate import EvalConfig
+from active_recognition.options import add_flags
 from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.report import write_json
@@ -127,15 +129,13 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--dataset", default="procedural", choices=("procedural", "modelnet"),
-                    help="whose test objects (modelnet: with --root; the cross-style row is "
-                         "procedural's own)")
-    ap.add_argument("--root", default=None, help="dataset root folder (modelnet)")
-    ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT, help="test objects (seeded draw)")
-    ap.add_argument("--seed", type=int, default=0)
+    add_flags(ap, EvalConfig, ["dataset", "root", "objects", "seed"], dataset={
+        "choices": ("procedural", "modelnet"),
+        "help": "whose test objects (modelnet: with --root; the cross-style row is procedural's own)"},
+        objects={"default": OBJECTS_DEFAULT, "help": "test objects (seeded draw)"})
     ap.add_argument("--rows", nargs="*", default=None, help="rows to run (default: all)")
     ap.add_argument("--workers", type=int, default=2, help="processes (one row each at a time), >= 1")
-    ap.add_argument("--checkpoint", default=None, help="model file (default: the shipped one)")
+    add_flags(ap, EvalConfig, ["checkpoint"])
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/camera_robustness.json, for modelnet "
                     "docs/results/modelnet10/camera_robustness.json; a partial run must give it)")

@@ -34,6 +34,8 @@ import numpy as np
 
 from common import emit
 
+from active_recognition.command_options import DemoOptions
+from active_recognition.options import add_flags
 from active_recognition.report import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -124,7 +126,7 @@ def run_camera(name, objects, seed, timeout):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--objects", type=int, default=40, help="procedural test objects (seeded draw)")
-    ap.add_argument("--seed", type=int, default=0)
+    add_flags(ap, DemoOptions, ["seed"])
     ap.add_argument("--cameras", nargs="*", default=list(CAMERAS), choices=list(CAMERAS))
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds an episode may take")
     ap.add_argument("--out", default=str(ROOT / "docs/results/robot_loop.json"),
