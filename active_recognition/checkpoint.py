@@ -20,13 +20,13 @@
 from __future__ import annotations
 
 import math
-import os
 import pickle
 import zipfile
 from pathlib import Path
 
 import torch
 
+from .files import atomic_write
 from .model import ModelConfig, RecurrentAttention
 from .size_prior import SizePrior
 from .validation import InputError, check_mapping
@@ -57,15 +57,9 @@ class CheckpointError(InputError):
 
 
 def save(path, payload):
-    """Write `payload` to `path` via a temp file and a rename: never a half-written file."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        torch.save({"format": FORMAT, **payload}, tmp)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
+    """Write `payload` to `path` atomically (files.atomic_write): never a half-written file."""
+    with atomic_write(path, "wb") as f:
+        torch.save({"format": FORMAT, **payload}, f)
 
 
 def read(path):

@@ -23,9 +23,9 @@ adds the commands that made them and what each table shows, nothing measured of 
 import argparse
 import csv
 import json
-import os
 from pathlib import Path
 
+from active_recognition.files import write_text
 from active_recognition.report import PAPER, PAPER_MODELNET10, PAPER_TRAINING_HOURS, table
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -262,9 +262,7 @@ def write_results_page(path, results):
         + ["python benchmarks/runs_table.py twins_candidates " + " ".join(
             f"{k}=runs/twins_{k}" for k in TWINS_CANDIDATES) + " imitation=runs/twins"])
     parts.append("")
-    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    tmp.write_text("\n".join(parts))
-    os.replace(tmp, path)
+    write_text(path, "\n".join(parts))
 
 
 TWINS_COMMANDS = """active-recognition train --config config/train_twins.yaml                    # imitation: twins.pt
