@@ -169,11 +169,9 @@ def score_shared(net, shapes, ro: Rollout, chunk=50):
 
 def checkpoint_split(path, cfg: EvalConfig, splits=None):
     """(model, classes, cfg's dataset split as the model's camera sees it, the checkpoint dict)
-    for a checkpoint (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
-    splits (and their built cameras) for the next checkpoint with the same camera."""
-    if path is None and cfg.dataset in checkpoint.SHIPPED_FOR:
-        path = checkpoint.shipped(cfg.dataset)  # the dataset's own shipped model
-    model, classes, ckpt = checkpoint.load_model(path)
+    for a checkpoint (None: the dataset's shipped one), refused unless its classes are the dataset's.
+    `splits` keeps the splits (and their built cameras) for the next checkpoint with the same camera."""
+    model, classes, ckpt = checkpoint.load_model(path, dataset=cfg.dataset)
     size, radius = model.config.image_size, model.config.radius
     splits = {} if splits is None else splits
     if (size, radius) not in splits:

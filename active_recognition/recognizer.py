@@ -104,7 +104,7 @@ class Observation:
 class ActiveRecognizer:
     def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto",
                  sensing=SensingConfig(), limits=ViewLimits()):
-        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path or None)
+        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path)
         size = self.model.config.image_size
         self.camera = CameraConfig(size, size, radius=self.model.config.radius)
         self.sensing = sensing

@@ -29,7 +29,7 @@ rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
-from active_recognition.checkpoint import SHIPPED  # noqa: E402
+from active_recognition.checkpoint import shipped  # noqa: E402
 from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
@@ -73,7 +73,7 @@ def episodes(ns, count, **params):
     """`count` episodes against camera `ns` -> (results, next_view requests, recognizer)."""
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, namespace=ns, parameter_overrides=[
-            Parameter(k, value=v) for k, v in {"checkpoint": str(SHIPPED), "seed": 3,
+            Parameter(k, value=v) for k, v in {"checkpoint": str(shipped("procedural")), "seed": 3,
                                                "view_timeout": 1.5, "max_views": 3,
                                                **params}.items()])
         client, views = DemoClient(context=ctx, namespace=ns), []

@@ -92,6 +92,15 @@ def check_readme_accuracy(marker, probs, labels):
     assert abs(acc - readme(marker)) <= 0.005 + 1e-9
 
 
+def test_no_model_file_means_the_shipped_model_of_the_objects_dataset():
+    assert checkpoint.model_path(None) == checkpoint.model_path("") == checkpoint.shipped("procedural")
+    assert checkpoint.model_path("", "modelnet").name == "modelnet10.pt"  # the node's real objects
+    assert checkpoint.model_path("runs/x/final.pt", "modelnet") == Path("runs/x/final.pt")
+    assert all((checkpoint.MODELS / f).is_file() for f in checkpoint.SHIPPED_FOR.values())
+    with pytest.raises(checkpoint.InputError, match="none is shipped for the folder dataset"):
+        checkpoint.load_model(None, dataset="folder")
+
+
 def test_shipped_checkpoint_matches_the_readme_figure():
     """procedural.pt with the planner 'auto' stands for (the checkpoint's default_planner, and
     its fixed path) scores the README's figure after 3 views on 100 seeded test objects."""

@@ -38,7 +38,7 @@ from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
 from active_recognition import plausible
-from active_recognition.checkpoint import shipped
+from active_recognition.checkpoint import model_path
 from active_recognition.episode import EpisodeConfig
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
@@ -114,7 +114,7 @@ class Recognizer(Node):
         for name in TIMING:
             setattr(self, name, p[name])
         self.sensing = SensingConfig(**{k: p[k] for k in SENSING})
-        self.core = ActiveRecognizer(p["checkpoint"] or str(shipped("modelnet")),
+        self.core = ActiveRecognizer(model_path(p["checkpoint"], "modelnet"),  # real objects
                                      EpisodeConfig(p["max_views"], p["entropy_threshold"]), p["seed"],
                                      p["planner"], self.sensing,
                                      ViewLimits(p["min_elevation"], p["max_elevation"]))
