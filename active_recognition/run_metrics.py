@@ -27,8 +27,8 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from .files import atomic_write
 from .episode import Episode, EpisodeConfig, run
+from .files import atomic_write
 from .reach import ViewLimits, reach_of
 from .validation import InputError, read_text
 from .visualize import plt, save_figure
