@@ -145,9 +145,10 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
                                shapes.labels[idx])
         sizes = shapes.sizes(idx) if cfg.size and model.size_prior is not None else None
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
-                     reach=reach_of(cfg.limits()), size=None if sizes is None else torch.from_numpy(sizes))
+                     reach=reach_of(cfg.limits()))
         with torch.no_grad():
-            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
+            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps,
+                size=None if sizes is None else torch.from_numpy(sizes))
         parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),
                       torch.stack(ep.info_gain, 1).numpy(), ep.stopped_at.numpy()))
     views, probs, gain, stopped = (np.concatenate(x) for x in zip(*parts))
