@@ -27,7 +27,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
-from active_recognition.checkpoint import load_model, model_path, shipped
+from active_recognition.checkpoint import load_model, model_path
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
@@ -57,12 +57,6 @@ class MultiThreadedExecutor(executors.MultiThreadedExecutor):
             if future.done():
                 self._futures.remove(future)
                 future.result()  # raise any exceptions
-
-
-def shipped_checkpoint(dataset="procedural"):
-    """The recognizer's `checkpoint` parameter for a dataset's shipped model (its default is the
-    ModelNet10 model: loops that show procedural or twins objects pass this)."""
-    return Parameter("checkpoint", value=str(shipped(dataset)))
 
 
 @contextmanager
