@@ -201,8 +201,6 @@ class OraclePlanner(CandidateFeatures, Planner):
     """PRIVILEGED: the unvisited candidate after which the episode's answer is right by the
     widest margin (knows the label, renders the object): the upper bound of one-step planning."""
 
-    privileged = True
-
     def __init__(self, cameras, labels, candidates=50):
         super().__init__(cameras, candidates)
         self.labels = torch.as_tensor(np.asarray(labels), dtype=torch.long)
@@ -224,8 +222,6 @@ class OraclePlanner(CandidateFeatures, Planner):
 class GreedyPlanner(CandidateFeatures, Planner):
     """PRIVILEGED, without the label: the candidate whose next prediction has the least entropy
     (the largest one-step information gain); it may revisit a view."""
-
-    privileged = True
 
     def next_view(self, episode, step):
         model, best = episode.model, []

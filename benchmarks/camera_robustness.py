@@ -77,8 +77,6 @@ ROWS = {
 SIZES = (0.3, 3.0)
 # rows that change the object, not the camera: a random heading, or the held-out styles
 OBJECTS = {"yaw unknown": {"yaw": True}, "cross-style (held-out styles)": {"split": "cross"}}
-FRAME = ("object frame 5 % off centre", "object frame 15 % off centre",
-         "object_size 15 % too large", "object_size 15 % too small")
 
 
 def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=None):
