@@ -94,6 +94,14 @@ class State:
     log_probs: list = field(default_factory=list)  # (B,) log N(increment; FC_loc, std^2), exploring
 
 
+def _read(name, doc, copy=None):
+    """A read-only property of Episode: State.`name` (through `copy`: the caller's own)."""
+    def get(self):
+        value = getattr(self._live, name)
+        return value if copy is None or value is None else copy(value)
+    return property(get, doc=doc)
+
+
 @dataclass
 class Episode:
     model: RecurrentAttention
@@ -142,60 +150,26 @@ class Episode:
             raise RuntimeError("the episode has not started: reset(initial_view) first")
         return self._state
 
-    @property
-    def view(self) -> torch.Tensor:
-        """(B, 2) the view asked for next."""
-        return self._live.view
-
-    @property
-    def hidden(self) -> torch.Tensor:
-        """(B, H) the recurrent state after the last step: what a planner looks ahead from."""
-        return self._live.hidden
+    # what the episode has seen, read-only: records as tuples, flags as copies
+    view = _read("view", "(B, 2) the view asked for next.")
+    hidden = _read("hidden", "(B, H) the recurrent state after the last step: what a planner "
+                             "looks ahead from.")
+    size = _read("size", "(B,) metres, each object's size as reset() was told; None: unknown.")
+    views = _read("views", "(B, 2) each: the views taken, then the one asked for next.", tuple)
+    probs = _read("probs", "(B, C) each step: the episode's answers.", tuple)
+    entropies = _read("entropies", "(B,) each step: the answer's Shannon entropy (nats).", tuple)
+    info_gain = _read("info_gain", "(B,) each step: how far it lowered the entropy (from log C "
+                                   "before the first).", tuple)
+    log_probs = _read("log_probs", "(B,) each step, when exploring: the log density of the "
+                                   "increment sampled.", tuple)
+    done = _read("done", "(B,) bool: stopped (confident, or out of views).", torch.clone)
+    stopped_at = _read("stopped_at", "(B,) the number of views each object had when it stopped; "
+                                     "-1 while it goes on.", torch.clone)
 
     @property
     def steps(self) -> int:
         """Images read so far."""
         return len(self._live.probs)
-
-    @property
-    def views(self) -> tuple:
-        """(B, 2) each: the views taken, then the one asked for next."""
-        return tuple(self._live.views)
-
-    @property
-    def probs(self) -> tuple:
-        """(B, C) each step: the episode's answers."""
-        return tuple(self._live.probs)
-
-    @property
-    def entropies(self) -> tuple:
-        """(B,) each step: the Shannon entropy of the answer, in nats."""
-        return tuple(self._live.entropies)
-
-    @property
-    def info_gain(self) -> tuple:
-        """(B,) each step: how far the step lowered the entropy (from log C before the first)."""
-        return tuple(self._live.info_gain)
-
-    @property
-    def log_probs(self) -> tuple:
-        """(B,) each step, when exploring: the log density of the increment sampled."""
-        return tuple(self._live.log_probs)
-
-    @property
-    def done(self) -> torch.Tensor:
-        """(B,) bool: stopped (confident, or out of views)."""
-        return self._live.done.clone()
-
-    @property
-    def stopped_at(self) -> torch.Tensor:
-        """(B,) the number of views each object had when it stopped; -1 while it goes on."""
-        return self._live.stopped_at.clone()
-
-    @property
-    def size(self) -> torch.Tensor | None:
-        """(B,) metres, each object's size as reset() was told; None: unknown."""
-        return self._live.size
 
     def step(self, depth, view=None) -> Step:
         """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255].
