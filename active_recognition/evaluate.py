@@ -150,9 +150,10 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
                                shapes.labels[idx])
         sizes = shapes.sizes(idx) if cfg.size and model.size_prior is not None else None
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
-                     reach=reach_of(cfg.limits), size=None if sizes is None else torch.from_numpy(sizes))
+                     reach=reach_of(cfg.limits))
         with torch.no_grad():
-            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
+            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps,
+                size=None if sizes is None else torch.from_numpy(sizes))
         parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),
                       torch.stack(ep.info_gain, 1).numpy(), ep.stopped_at.numpy()))
     views, probs, gain, stopped = (np.concatenate(x) for x in zip(*parts))
@@ -174,11 +175,9 @@ def score_shared(net, shapes, ro: Rollout, chunk=50):
 
 def checkpoint_split(path, cfg: EvalConfig, splits=None):
     """(model, classes, cfg's dataset split as the model's camera sees it, the checkpoint dict)
-    for a checkpoint (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
-    splits (and their built cameras) for the next checkpoint with the same camera."""
-    if path is None and cfg.dataset in checkpoint.SHIPPED_FOR:
-        path = checkpoint.shipped(cfg.dataset)  # the dataset's own shipped model
-    model, classes, ckpt = checkpoint.load_model(path)
+    for a checkpoint (None: the dataset's shipped one), refused unless its classes are the dataset's.
+    `splits` keeps the splits (and their built cameras) for the next checkpoint with the same camera."""
+    model, classes, ckpt = checkpoint.load_model(path, dataset=cfg.dataset)
     size, radius = model.config.image_size, model.config.radius
     splits = {} if splits is None else splits
     if (size, radius) not in splits:

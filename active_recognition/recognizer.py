@@ -113,20 +113,21 @@ class Observation:
 class ActiveRecognizer:
     def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto",
                  sensing=SensingConfig(), limits=ViewLimits()):
-        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path or None)
+        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path)
         size = self.model.config.image_size
         self.camera = CameraConfig(size, size, radius=self.model.config.radius)
         self.sensing = sensing
         self.planner = choose_planner(planner, self.model, ckpt)
         self.reach = Reach(limits)
-        self.episode = Episode(self.model, episode, make_planner(
-            self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")),
-            reach=self.reach, forward=single_step(self.model))
+        planner = make_planner(self.planner, seed=seed, model=self.model,
+                               fixed_path=ckpt.get("fixed_path"))
+        self.episode = Episode(self.model, episode, planner, reach=self.reach,
+                               forward=single_step(self.model))
         self.rng = np.random.default_rng(seed)
         self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
         # the views a planner chooses among (FC_view's, else the paper's 50): once every one it
         # can reach has been used, the episode ends
-        self.planner_candidates = getattr(self.episode.planner, "candidates", None)
+        self.planner_candidates = getattr(planner, "candidates", None)
         if self.planner_candidates is None:
             self.planner_candidates = geometry.fibonacci_views(50)
         self.reset()
@@ -143,8 +144,8 @@ class ActiveRecognizer:
             self.sensing = sensing
         if view is None:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
-        self.episode.reset(torch.tensor(view, dtype=torch.float32))
-        self.episode.size = torch.tensor([self.sensing.object_size]) if self.sensing.use_size else None
+        self.episode.reset(torch.tensor(view, dtype=torch.float32),
+                           [self.sensing.object_size] if self.sensing.use_size else None)
         self.empty_views, self.no_object = 0, False
         self.no_image, self.unreachable_run = False, (None, 0)
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
@@ -249,8 +250,7 @@ class ActiveRecognizer:
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
-            self.episode.done[0] = True  # every reachable candidate used: nothing new to see
-            self.episode.stopped_at[0] = self.episode.steps
+            self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
         return Observation("recognized" if done else "classified", probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
@@ -270,7 +270,8 @@ class ActiveRecognizer:
             torch.set_num_threads(before)
 
     def views_taken(self):
-        return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])
+        """(steps, 2) the views the images were taken from."""
+        return self.episode.visited()
 
     def view_unreachable(self) -> Observation:
         """No image came for the view asked for (a robot's arm could not get there, or the

@@ -40,7 +40,6 @@ from results_page import write_results_page
 from tqdm import tqdm
 
 from active_recognition import checkpoint
-from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
 from active_recognition.evaluate import EvalConfig
@@ -80,8 +79,6 @@ ROWS = {
 SIZES = (0.3, 3.0)
 # rows that change the object, not the camera: a random heading, or the held-out styles
 OBJECTS = {"yaw unknown": {"yaw": True}, "cross-style (held-out styles)": {"split": "cross"}}
-FRAME = ("object frame 5 % off centre", "object frame 15 % off centre",
-         "object_size 15 % too large", "object_size 15 % too small")
 
 
 def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=None):
@@ -157,8 +154,7 @@ def run(ap, args):
     partial = [flag for flag, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
                                      ("--rows", args.rows != rows_here), ("--checkpoint", args.checkpoint)) if on]
     args.out = output(ap, args.out, str(results_dir(args.dataset) / "camera_robustness.json"), partial)
-    if args.checkpoint is None and args.dataset != "procedural":
-        args.checkpoint = str(shipped(args.dataset))
+    args.checkpoint = str(checkpoint.model_path(args.checkpoint, args.dataset))
     checkpoint.load_model(args.checkpoint)  # a bad model file: refused here, not in every worker
     n_test = len(open_dataset(args.dataset, args.root, "test", cache_dir=default_cache_dir()))
     if not 1 <= args.objects <= n_test:
@@ -179,7 +175,7 @@ def run(ap, args):
     result = {"clean": rows.get("clean", {}).get("acc_3"),
               "realsense": rows.get("realsense", {}).get("acc_3"), "rows": rows,
               "objects": len(objects), "dataset": args.dataset,
-              "checkpoint": str(args.checkpoint or shipped(args.dataset))}
+              "checkpoint": args.checkpoint}
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)
         write_json(Path(args.out), result)

@@ -32,7 +32,7 @@ from common import FOLDER, RESULTS, committed, emit, one_line_errors, output, re
 from results_page import write_results_page
 
 from active_recognition import checkpoint
-from active_recognition.checkpoint import SHIPPED
+from active_recognition.checkpoint import MODELS, SHIPPED_FOR
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.evaluate import EvalConfig, evaluate, halves, summary
 from active_recognition.options import add_flags
@@ -42,19 +42,13 @@ from active_recognition.report import PAPER_MODELNET10, write_json
 from active_recognition.run_metrics import read_metrics, training_time
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = SHIPPED.parent
-# the planners each dataset's shipped models serve, and the model file of each
+# the planners each dataset's shipped models serve, and the model file of each: the shipped
+# model (checkpoint.SHIPPED_FOR), its REINFORCE twin beside it
 EVERY = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
 PLANNERS = {"procedural": EVERY[:-1] + ("fixed+imitation", "oracle"),
             "twins": EVERY, "modelnet": EVERY[:-1] + ("fixed+imitation", "oracle")}
-CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt",
-                              "imitation": "procedural.pt"},
-               "twins": {"learned": "twins.pt", "reinforce": "twins_reinforce.pt",
-                         "imitation": "twins.pt"},
-               "modelnet": {"learned": "modelnet10.pt", "reinforce": "modelnet10_reinforce.pt",
-                            "imitation": "modelnet10.pt"}}
-# the planner the recognizer and the demo use with each shipped model (its best non-privileged)
-DEFAULT_CHECKPOINT = {"procedural": "procedural.pt", "twins": "twins.pt", "modelnet": "modelnet10.pt"}
+CHECKPOINTS = {d: {"learned": f, "reinforce": f.replace(".pt", "_reinforce.pt"), "imitation": f}
+               for d, f in SHIPPED_FOR.items()}
 
 
 def ship(path, s):
@@ -142,7 +136,7 @@ def run(ap, args):
         if not sep:
             ap.error(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
         own[name] = path
-    model = args.checkpoint or str(MODELS / DEFAULT_CHECKPOINT[args.dataset])
+    model = str(checkpoint.model_path(args.checkpoint, args.dataset))
     for path in {model, *own.values()}:
         if not Path(path).is_file():
             ap.error(f"{path}: no such model (train it with its config/train_*.yaml, or pass "
@@ -174,7 +168,7 @@ def run(ap, args):
         s["paper"] = {k: list(v) for k, v in PAPER_MODELNET10.items()}
     write_json(out / "summary.json", s)
     if args.ship:
-        ship(MODELS / DEFAULT_CHECKPOINT[args.dataset], s)
+        ship(checkpoint.shipped(args.dataset), s)
     if committed(out):  # a run elsewhere leaves the committed page as it is
         write_results_page(ROOT / "docs/RESULTS.md", RESULTS)
     for name in s["acc"]:

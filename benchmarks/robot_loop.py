@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import emit
+from common import emit, shipped_checkpoint, stop_processes
 
 from active_recognition.command_options import DemoOptions
 from active_recognition.options import add_flags
@@ -87,8 +87,7 @@ def run_camera(name, objects, seed, timeout):
     from rclpy.parameter_client import AsyncParameterClient
 
     from active_recognition.datasets import default_cache_dir, open_dataset
-    from active_recognition.nodes.demo import DemoClient, recognize, ros_session, shipped_checkpoint, spin_until
-    from active_recognition.nodes import stop_processes
+    from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
     from active_recognition.nodes.recognizer import Recognizer
 
     test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())

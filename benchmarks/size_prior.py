@@ -74,7 +74,7 @@ def main():
 
 
 def run(args):
-    path = Path(args.checkpoint or checkpoint.shipped("modelnet"))
+    path = checkpoint.model_path(args.checkpoint, "modelnet")
     cfg = EvalConfig(checkpoint=str(path), dataset="modelnet", root=args.root, split="val",
                      starts=args.starts, steps=max(VIEWS), size=False, shared=False)
     model, classes, val, ckpt = checkpoint_split(str(path), cfg)

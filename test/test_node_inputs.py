@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import import_ros
+from conftest import import_ros, load_benchmark
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -34,12 +34,11 @@ from std_srvs.srv import Trigger  # noqa: E402
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
-from active_recognition.nodes.demo import shipped_checkpoint  # noqa: E402
 from active_recognition.nodes.recognizer import PARAMS, Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
-PROCEDURAL = shipped_checkpoint()
+PROCEDURAL = load_benchmark("common").shipped_checkpoint()
 
 
 def info(width, height, fx, fy, cx, cy, **k):

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 import torch
 
-from conftest import import_ros
+from conftest import import_ros, load_benchmark
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -36,15 +36,15 @@ from std_msgs.msg import String  # noqa: E402
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
-from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
-from active_recognition.nodes.demo import shipped_checkpoint  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 from active_recognition.reach import ViewLimits  # noqa: E402
 from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
 from active_recognition.simulated_camera import SimulatedCamera  # noqa: E402
 
+common = load_benchmark("common")  # what the ROS benchmarks and these tests share
+shipped_checkpoint, stop_processes = common.shipped_checkpoint, common.stop_processes
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
 PROCEDURAL = shipped_checkpoint()
 

@@ -14,28 +14,11 @@
 
 """Thin rclpy shells around the core (the only place rclpy is imported)."""
 import functools
-import subprocess
 import sys
 import time
 import traceback
-import warnings
 
 from active_recognition.validation import InputError
-
-
-def stop_processes(procs, grace=10.0):
-    """SIGTERM each node process (subprocess.Popen), wait up to `grace` seconds, then SIGKILL what
-    is left. Once in many CI runs a camera process has outlived SIGTERM by 10 s inside FastDDS's
-    teardown (its work long done): it is killed and reported, not left to fail the caller."""
-    for p in procs:
-        p.terminate()
-    for p in procs:
-        try:
-            p.wait(timeout=grace)
-        except subprocess.TimeoutExpired:
-            warnings.warn(f"{p.args[:3]} outlived SIGTERM by {grace:g} s: killed")
-            p.kill()
-            p.wait(timeout=grace)
 
 
 def declare_parameters(node, params):

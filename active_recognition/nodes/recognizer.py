@@ -25,6 +25,7 @@ import sys
 import time
 from collections import deque
 from dataclasses import fields, replace
+from typing import NamedTuple
 
 import numpy as np
 from geometry_msgs.msg import PoseStamped
@@ -38,7 +39,8 @@ from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
 from active_recognition import plausible
-from active_recognition.checkpoint import shipped
+from active_recognition.checkpoint import model_path
+from active_recognition.geometry import Intrinsics
 from active_recognition.node_params import NodeConfig, RecognizerParameters
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
@@ -65,8 +67,8 @@ class Recognizer(Node):
         for name in TIMING:
             setattr(self, name, p[name])
         self.sensing = cfg.sensing
-        self.core = ActiveRecognizer(p["checkpoint"] or str(shipped("modelnet")), cfg.episode, p["seed"],
-                                     p["planner"], self.sensing, cfg.limits)
+        self.core = ActiveRecognizer(model_path(p["checkpoint"], "modelnet"),  # real objects
+                                     cfg.episode, p["seed"], p["planner"], self.sensing, cfg.limits)
         self.refuse = Throttled(self.get_logger())
         self.add_on_set_parameters_callback(guarded(
             self, self.on_parameters,
@@ -180,17 +182,17 @@ class Recognizer(Node):
         self.poses.append((seconds, position, rotation))
         self.expect_poses = True
         if self.pending is not None:
-            pose = self.pose_at(self.pending[0])
+            pose = self.pose_at(self.pending.stamp)
             if pose is not None:
-                self.process(*self.pending[1:3], pose, self.pending[4])
+                self.process(self.pending.metres, self.pending.k, pose, self.pending.start)
 
     def on_timer(self):
         if time.monotonic() - self.qos_checked > QOS_CHECK_S:
             self.qos_checked = time.monotonic()
             for sub in self.inputs:
                 sub.follow()
-        if self.pending is not None and time.monotonic() - self.pending[3] > self.pose_tolerance:
-            pose = self.pose_at(self.pending[0], final=True)
+        if self.pending is not None and time.monotonic() - self.pending.since > self.pose_tolerance:
+            pose = self.pose_at(self.pending.stamp, final=True)
             if not self.poses:
                 self.expect_poses = False
                 self.once("pose", "no camera/pose received: assuming each image is taken at the "
@@ -199,7 +201,7 @@ class Recognizer(Node):
                 self.refuse("pose_tolerance", f"no camera/pose within pose_tolerance "
                                               f"({self.pose_tolerance} s) of the image: assuming "
                                               f"the requested view")
-            self.process(*self.pending[1:3], pose, self.pending[4])
+            self.process(self.pending.metres, self.pending.k, pose, self.pending.start)
         self.check_timeout()
 
     def check_timeout(self):
@@ -272,8 +274,8 @@ class Recognizer(Node):
         if pose is None and self.expect_poses:  # its pose may still be on its way
             # a newer image replaces the waiting one but not its wait: with no poses at all, a
             # 30 Hz camera would otherwise restart the wait forever
-            since = self.pending[3] if self.pending is not None else time.monotonic()
-            self.pending = (seconds, metres, k, since, start)
+            since = self.pending.since if self.pending is not None else time.monotonic()
+            self.pending = PendingImage(seconds, metres, k, since, start)
             return
         self.process(metres, k, pose, start)
 
@@ -304,6 +306,16 @@ class Recognizer(Node):
     def finish(self, obs):
         self.request_stamp, self.waiting_since = None, None
         self.pub_result.publish(String(data=json.dumps(obs.result())))
+
+
+class PendingImage(NamedTuple):
+    """An image waiting for the camera/pose of its stamp."""
+
+    stamp: float           # seconds: the image's stamp
+    metres: np.ndarray     # (H, W) depth, NaN = no return
+    k: Intrinsics | None   # the image's camera; None: the model's own
+    since: float           # time.monotonic() when the wait began (a newer image keeps it)
+    start: float           # time.perf_counter() when the image arrived (the step's latency)
 
 
 def main(args=None):
