@@ -20,29 +20,41 @@
 from __future__ import annotations
 
 import math
-import os
 import pickle
 import zipfile
 from pathlib import Path
 
 import torch
 
+from .files import atomic_write
 from .model import ModelConfig, RecurrentAttention
 from .size_prior import SizePrior
 from .validation import InputError, check_mapping
 
 FORMAT = "active_recognition/1"
-SHIPPED = Path(__file__).parent / "checkpoints" / "procedural.pt"
-
-
+MODELS = Path(__file__).parent / "checkpoints"  # the shipped models
 SHIPPED_FOR = {"procedural": "procedural.pt", "twins": "twins.pt", "modelnet": "modelnet10.pt"}
+DEFAULT_DATASET = "procedural"  # where a caller names neither a model nor a dataset
 
 
-def shipped(dataset="procedural"):
+def shipped(dataset=DEFAULT_DATASET):
     """The shipped model of a dataset (modelnet: ModelNet10's)."""
     if dataset not in SHIPPED_FOR:
         raise InputError(f"shipped models exist for {', '.join(SHIPPED_FOR)}, not {dataset!r}")
-    return SHIPPED.with_name(SHIPPED_FOR[dataset])
+    return MODELS / SHIPPED_FOR[dataset]
+
+
+def model_path(path=None, dataset=DEFAULT_DATASET):
+    """The model file to read. The one rule for a missing one: no `path` (None or "") means the
+    shipped model of the dataset whose objects the model will see. The recognizer node's are
+    real objects (modelnet: modelnet10.pt); evaluate's and the demo's come from their dataset; a
+    library call that names none gets procedural.pt, the package's own objects."""
+    if path:
+        return Path(path)
+    if dataset not in SHIPPED_FOR:
+        raise InputError(f"no model file given, and none is shipped for the {dataset} dataset "
+                         f"(only for {', '.join(SHIPPED_FOR)}): name a checkpoint")
+    return shipped(dataset)
 
 
 class CheckpointError(InputError):
@@ -57,15 +69,9 @@ class CheckpointError(InputError):
 
 
 def save(path, payload):
-    """Write `payload` to `path` via a temp file and a rename: never a half-written file."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        torch.save({"format": FORMAT, **payload}, tmp)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
+    """Write `payload` to `path` atomically (files.atomic_write): never a half-written file."""
+    with atomic_write(path, "wb") as f:
+        torch.save({"format": FORMAT, **payload}, f)
 
 
 def read(path):
@@ -173,9 +179,9 @@ def check_resume_settings(path, saved, config):
                                     "the run's own, or start afresh in another --out")
 
 
-def load_model(path=None, expect_classes=None):
-    """(model in eval mode, class names, checkpoint dict) from a file (default: the shipped one)."""
-    path = SHIPPED if path is None else Path(path)
+def load_model(path=None, expect_classes=None, dataset=DEFAULT_DATASET):
+    """(model in eval mode, class names, checkpoint dict) from a file (none: model_path's rule)."""
+    path = model_path(path, dataset)
     ckpt = read(path)
     model = build_model(ckpt, path)
     if expect_classes is not None and list(expect_classes) != list(ckpt["classes"]):

@@ -21,21 +21,30 @@ training loop can backpropagate through the depth layer into FC_loc.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Callable, Protocol, TYPE_CHECKING, runtime_checkable
 
 import numpy as np
 import torch
 
 from .geometry import wrap_view
-from .validation import option, validate
+from .validation import InputError, option, validate
+
+if TYPE_CHECKING:
+    from .model import RecurrentAttention
+    from .reach import Reach
 
 MAX_VIEWS = 1000  # an episode longer than this is a typo, not a plan
+# what runs the model a step: (depth (B, H, W), hidden, view (B, 2)) -> (logits, increment, hidden)
+Forward = Callable[[torch.Tensor, torch.Tensor, torch.Tensor],
+                   tuple[torch.Tensor, torch.Tensor, torch.Tensor]]
 
 
 @dataclass
 class EpisodeConfig:
-    max_views: int = option(10, lo=1, hi=MAX_VIEWS)
-    entropy_threshold: float = option(0.1, lo=0)  # nats; 0 = never stop early
+    max_views: int = option(10, lo=1, hi=MAX_VIEWS, help="stop after this many views")
+    entropy_threshold: float = option(0.1, lo=0, help="stop once the entropy of the class "
+                                                      "probabilities (nats) is below this; 0 = never early")
 
     def __post_init__(self):
         validate(self)
@@ -54,49 +63,114 @@ def entropy(probs):
     return -(probs * torch.log(probs.clamp_min(1e-12))).sum(-1)
 
 
+@runtime_checkable
+class Planner(Protocol):
+    """What picks an episode's next views in place of the model's own FC_loc (policies.py; the
+    training losses that steer their episodes)."""
+
+    def next_view(self, episode: Episode, step: Step | None) -> np.ndarray | torch.Tensor:
+        """(B, 2) views to take next, after `step` (None: between steps, where the view asked
+        for could not be had). The episode keeps them inside its reach."""
+
+    def reset(self, episode: Episode) -> None:
+        """Optional: forget the last episode; called once the new one has its first view."""
+
+
+@dataclass
+class State:
+    """What one episode has seen so far (Episode.reset starts a new one)."""
+
+    view: torch.Tensor             # (B, 2) the view asked for next
+    hidden: torch.Tensor           # (B, H) the recurrent state
+    mirror_hidden: torch.Tensor    # the mirrored world's state (readout mean+mirror)
+    done: torch.Tensor             # (B,) bool: stopped
+    stopped_at: torch.Tensor       # (B,) the step each object stopped at; -1 while it goes on
+    size: torch.Tensor | None      # (B,) metres: each object's longest box edge, if known
+    views: list = field(default_factory=list)      # (B, 2) each: the views taken, then view
+    probs: list = field(default_factory=list)      # (B, C) each: the answers
+    entropies: list = field(default_factory=list)  # (B,) each: the answers' entropies
+    info_gain: list = field(default_factory=list)  # (B,) each: the entropies' decreases
+    probs_sum: torch.Tensor | float = 0.0  # of every step's own class probabilities (readout mean)
+    requested: list = field(default_factory=list)  # (B, 2) views asked for, taken elsewhere
+    log_probs: list = field(default_factory=list)  # (B,) log N(increment; FC_loc, std^2), exploring
+
+
+def _read(name, doc, copy=None):
+    """A read-only property of Episode: State.`name` (through `copy`: the caller's own)."""
+    def get(self):
+        value = getattr(self._live, name)
+        return value if copy is None or value is None else copy(value)
+    return property(get, doc=doc)
+
+
 @dataclass
 class Episode:
-    model: torch.nn.Module
+    model: RecurrentAttention
     config: EpisodeConfig = field(default_factory=EpisodeConfig)
-    planner: object = None  # None: the model's own FC_loc; else planner.next_view(episode, step)
+    planner: Planner | None = None  # None: the model's own FC_loc
     exploration_std: float = 0.0  # > 0: sample increments from N(FC_loc, std^2) (REINFORCE)
     explore_through: bool = False  # keep the sample's path to FC_loc (the hybrid's view gradient)
     random_views: float = 0.0  # training: each next view is a random one with this chance
-    # the views a robot can take (reach.Reach: an elevation band, views found unreachable);
-    # None = the whole sphere. Every planner's next view is kept inside it
-    reach: object = None
-    # what runs the model a step (model.single_step: traced, for B = 1); None: the model itself
-    forward: object = None
+    # the views a robot can take (an elevation band, views found unreachable); None = the whole
+    # sphere. Every planner's next view is kept inside it
+    reach: Reach | None = None
+    forward: Forward | None = None  # model.single_step: traced, for B = 1; None: the model itself
     # read each image's mirror image too (readout mean+mirror); None: as reads_mirror(model) says.
     # False where nobody reads the answers (training's episodes that only collect states)
     mirror: bool | None = None
-    # (B,) metres: each object's longest box edge (a detector's box; the node's object_size). With
-    # a model that carries a size prior (size_prior.py) the answer weighs what it says of each class
-    size: object = None
+    _state: State | None = field(default=None, init=False, repr=False)
 
-    def reset(self, initial_view):
-        """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2)."""
+    def __post_init__(self):
+        if self.planner is not None and not callable(getattr(self.planner, "next_view", None)):
+            raise InputError(f"episode planner {self.planner!r}: has no next_view(episode, step)")
+
+    def reset(self, initial_view, size=None):
+        """Start on a new object (or batch of objects) at initial_view (2,) or (B, 2). size (B,)
+        metres: each object's longest box edge (a detector's box; the node's object_size); with a
+        model that carries a size prior (size_prior.py) the answer weighs what it says of each
+        class."""
         device = next(self.model.parameters()).device
-        view = torch.as_tensor(initial_view, dtype=torch.float32, device=device)
-        self.view = view.reshape(-1, 2)
+        view = torch.as_tensor(initial_view, dtype=torch.float32, device=device).reshape(-1, 2)
         if self.reach is not None:
             self.reach.reset()
-            self.view = self.reach.limits.clamp(self.view)
-        self.hidden = self.model.init_hidden(len(self.view), device)
-        self.mirror_hidden = self.hidden  # the mirrored world's state (readout mean+mirror)
-        self.views, self.probs, self.entropies, self.info_gain = [self.view], [], [], []
-        self.probs_sum = 0.0  # of every step's own class probabilities (readout mean)
-        self.requested = []  # views asked for but taken elsewhere (a robot's arm): (B, 2) each
-        self.log_probs = []  # log N(increment; FC_loc, std^2) per step, when exploring
-        self.done = torch.zeros(len(self.view), dtype=torch.bool, device=device)
-        self.stopped_at = torch.full((len(self.view),), -1, dtype=torch.long, device=device)
-        if self.planner is not None and hasattr(self.planner, "reset"):
-            self.planner.reset(self)
+            view = self.reach.limits.clamp(view)
+        b, hidden = len(view), self.model.init_hidden(len(view), device)
+        if size is not None and torch.as_tensor(size).numel() != b:
+            raise InputError(f"episode size: {torch.as_tensor(size).numel()} sizes for {b} objects")
+        self._state = State(view, hidden, hidden, torch.zeros(b, dtype=torch.bool, device=device),
+                            torch.full((b,), -1, dtype=torch.long, device=device),
+                            None if size is None else torch.as_tensor(size).reshape(b), [view])
+        reset = getattr(self.planner, "reset", None)
+        if reset is not None:
+            reset(self)
         return self.view
 
     @property
-    def steps(self):
-        return len(self.probs)
+    def _live(self) -> State:
+        if self._state is None:
+            raise RuntimeError("the episode has not started: reset(initial_view) first")
+        return self._state
+
+    # what the episode has seen, read-only: records as tuples, flags as copies
+    view = _read("view", "(B, 2) the view asked for next.")
+    hidden = _read("hidden", "(B, H) the recurrent state after the last step: what a planner "
+                             "looks ahead from.")
+    size = _read("size", "(B,) metres, each object's size as reset() was told; None: unknown.")
+    views = _read("views", "(B, 2) each: the views taken, then the one asked for next.", tuple)
+    probs = _read("probs", "(B, C) each step: the episode's answers.", tuple)
+    entropies = _read("entropies", "(B,) each step: the answer's Shannon entropy (nats).", tuple)
+    info_gain = _read("info_gain", "(B,) each step: how far it lowered the entropy (from log C "
+                                   "before the first).", tuple)
+    log_probs = _read("log_probs", "(B,) each step, when exploring: the log density of the "
+                                   "increment sampled.", tuple)
+    done = _read("done", "(B,) bool: stopped (confident, or out of views).", torch.clone)
+    stopped_at = _read("stopped_at", "(B,) the number of views each object had when it stopped; "
+                                     "-1 while it goes on.", torch.clone)
+
+    @property
+    def steps(self) -> int:
+        """Images read so far."""
+        return len(self._live.probs)
 
     def step(self, depth, view=None) -> Step:
         """Take the depth image(s) seen from the current view: (H, W) or (B, H, W) in [0, 255].
@@ -104,53 +178,56 @@ class Episode:
         view (B, 2): where the images were really taken, when that is not where the episode
         asked to look (a robot's arm); the episode goes on from there.
         """
+        s = self._live
         if view is not None:
-            self.requested.append(self.views[-1].detach())  # marked as visited too
-            self.view = torch.as_tensor(view, dtype=torch.float32,
-                                        device=self.view.device).reshape(self.view.shape)
-            self.views[-1] = self.view
-        depth = torch.as_tensor(depth, dtype=torch.float32, device=self.view.device)
-        depth = depth.reshape(len(self.view), *depth.shape[-2:])
+            s.requested.append(s.view.detach())  # marked as visited too
+            self.move_to(view)
+        depth = torch.as_tensor(depth, dtype=torch.float32, device=s.view.device)
+        depth = depth.reshape(len(s.view), *depth.shape[-2:])
         forward = self.forward or self.model
-        logits, delta, self.hidden = forward(depth, self.hidden, self.view)
+        logits, delta, s.hidden = forward(depth, s.hidden, s.view)
         probs = logits.softmax(-1)
         if self.mirrors:
-            flipped, _, self.mirror_hidden = forward(depth.flip(-1), self.mirror_hidden,
-                                                     mirrored(self.view))
+            flipped, _, s.mirror_hidden = forward(depth.flip(-1), s.mirror_hidden, mirrored(s.view))
             probs = (probs + flipped.softmax(-1)) / 2
         probs = self.answer(probs)
         h = entropy(probs)
-        prev = self.entropies[-1] if self.entropies else torch.full_like(h, math.log(probs.shape[-1]))
-        self.info_gain.append((prev - h).detach())
-        self.probs.append(probs)
-        self.entropies.append(h.detach())
+        prev = s.entropies[-1] if s.entropies else torch.full_like(h, math.log(probs.shape[-1]))
+        s.info_gain.append((prev - h).detach())
+        s.probs.append(probs)
+        s.entropies.append(h.detach())
         stop = (h.detach() < self.config.entropy_threshold) | (self.steps >= self.config.max_views)
-        newly = stop & ~self.done
-        self.stopped_at[newly] = self.steps
-        self.done = self.done | stop
-        step = Step(logits, probs, h, None, self.done.clone())
+        s.stopped_at = torch.where(stop & ~s.done, self.steps, s.stopped_at)
+        s.done = s.done | stop
+        step = Step(logits, probs, h, None, self.done)
         if self.planner is None:
-            if self.exploration_std > 0:
-                sample = delta + self.exploration_std * torch.randn_like(delta)
-                self.log_probs.append(-((sample.detach() - delta) ** 2).sum(-1)
-                                      / (2 * self.exploration_std ** 2))
-                sample = sample if self.explore_through else sample.detach()
-                delta = sample
-            theta, phi = wrap_view(self.view[:, 0] + delta[:, 0], self.view[:, 1] + delta[:, 1])
-            step.next_view = torch.stack([theta, phi], -1)
-            if self.random_views > 0:  # so the classifier learns from any sequence of views
-                jump = torch.rand(len(theta), device=theta.device) < self.random_views
-                anywhere = torch.stack([torch.arccos(1 - 2 * torch.rand_like(theta)),
-                                        (2 * torch.rand_like(phi) - 1) * math.pi], -1)
-                step.next_view = torch.where(jump[:, None], anywhere, step.next_view)
+            step.next_view = self.own_next_view(delta)
         else:
             step.next_view = torch.as_tensor(self.planner.next_view(self, step), dtype=torch.float32,
-                                             device=self.view.device)
+                                             device=s.view.device)
         if self.reach is not None:
             step.next_view = self.reach.keep(step.next_view, self.visited)
-        self.view = step.next_view
-        self.views.append(self.view)
+        s.view = step.next_view
+        s.views.append(s.view)
         return step
+
+    def own_next_view(self, delta):
+        """The model's own next views (B, 2) from FC_loc's increments `delta` (B, 2): sampled
+        around them when exploring, a random view at `random_views` chance."""
+        s = self._live
+        if self.exploration_std > 0:
+            sample = delta + self.exploration_std * torch.randn_like(delta)
+            s.log_probs.append(-((sample.detach() - delta) ** 2).sum(-1)
+                               / (2 * self.exploration_std ** 2))
+            delta = sample if self.explore_through else sample.detach()
+        theta, phi = wrap_view(s.view[:, 0] + delta[:, 0], s.view[:, 1] + delta[:, 1])
+        view = torch.stack([theta, phi], -1)
+        if self.random_views > 0:  # so the classifier learns from any sequence of views
+            jump = torch.rand(len(theta), device=theta.device) < self.random_views
+            anywhere = torch.stack([torch.arccos(1 - 2 * torch.rand_like(theta)),
+                                    (2 * torch.rand_like(phi) - 1) * math.pi], -1)
+            view = torch.where(jump[:, None], anywhere, view)
+        return view
 
     @property
     def mirrors(self):
@@ -161,23 +238,71 @@ class Episode:
         """The class probabilities the episode answers, from this step's own (the model's
         readout: these, or the mean of every step's so far), times what the objects' sizes say
         of each class where the model has a size prior and the episode knows the sizes."""
+        s = self._live
         if self.model.config.readout != "last":
-            self.probs_sum = self.probs_sum + probs
-            probs = self.probs_sum / (self.steps + 1)
+            s.probs_sum = s.probs_sum + probs
+            probs = s.probs_sum / (self.steps + 1)
         prior = getattr(self.model, "size_prior", None)
-        return probs if prior is None or self.size is None else prior.apply(probs, self.size)
+        return probs if prior is None or s.size is None else prior.apply(probs, s.size)
+
+    def lookahead(self, features, views, mirror_features=None):
+        """(B, K, C): the answer (before any size prior) after one more step, taken at each
+        candidate view (K, 2), from the candidates' features (B, K, F) (mirror_features: of their
+        images flipped, for the readout mean+mirror)."""
+        s = self._live
+        p = lookahead_logits(self.model, features, s.hidden, views).softmax(-1)
+        if mirror_features is not None:
+            flipped = mirrored(torch.as_tensor(views, dtype=torch.float32))
+            p = (p + lookahead_logits(self.model, mirror_features, s.mirror_hidden,
+                                      flipped).softmax(-1)) / 2
+        if self.model.config.readout != "last":  # the mean of every step's, this one's included
+            p = (s.probs_sum[:, None] + p) / (self.steps + 1)
+        return p
+
+    def marked_views(self, pending=True):
+        """(N, B, 2): every view taken, and each asked for but taken elsewhere (a request made
+        once is not made again); with `pending`, the view asked for next too."""
+        s = self._live
+        views = s.views if pending else s.views[:self.steps]
+        return torch.stack(list(views) + s.requested).detach()
 
     def visited(self):
         """(steps, 2) numpy views taken so far by a single object (B = 1); empty otherwise."""
         if len(self.view) != 1 or not self.steps:
             return np.zeros((0, 2))
-        return torch.cat(self.views[:self.steps]).detach().cpu().numpy()
+        return torch.cat(self._live.views[:self.steps]).detach().cpu().numpy()
 
     def move_to(self, view):
-        """Ask for `view` (2,) instead of the view pending (a robot could not reach that one)."""
-        self.view = torch.as_tensor(view, dtype=torch.float32,
-                                    device=self.view.device).reshape(self.view.shape)
-        self.views[-1] = self.view
+        """Ask for `view` (B, 2) instead of the view pending (a robot could not reach that one,
+        or took its image elsewhere)."""
+        s = self._live
+        s.view = torch.as_tensor(view, dtype=torch.float32, device=s.view.device).reshape(s.view.shape)
+        s.views[-1] = s.view
+
+    def stop(self):
+        """End the episode now for the objects still going on (nothing new is left to see)."""
+        s = self._live
+        s.stopped_at = torch.where(s.done, s.stopped_at, self.steps)
+        s.done = torch.ones_like(s.done)
+
+    def fork(self, **settings):
+        """A copy of the episode as it is now, with its own records: stepping it leaves this one
+        as it was (one step tried at each of several views). `settings` replace fields of the
+        copy (planner=None: FC_loc plans its next view)."""
+        twin = replace(self, **settings)
+        s = self._live
+        twin._state = replace(s, **{k: list(getattr(s, k)) for k in (
+            "views", "probs", "entropies", "info_gain", "requested", "log_probs")})
+        return twin
+
+
+def lookahead_logits(model, features, hidden, views):
+    """Class logits after one more step from each state, with each candidate view:
+    features (B, K, F) of the candidates, hidden (B, H), views (K, 2) -> (B, K, C)."""
+    b, k = features.shape[:2]
+    views = torch.as_tensor(views, dtype=torch.float32, device=features.device)
+    h = model.advance(features.reshape(b * k, -1), hidden.repeat_interleave(k, 0), views.repeat(b, 1))
+    return model.classify(h).reshape(b, k, -1)
 
 
 def reads_mirror(model):
@@ -194,18 +319,19 @@ def mirrored(view):
 
 
 def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reduction="mean",
-        corrupt=None):
+        corrupt=None, size=None):
     """Close the loop in simulation: render each camera at the episode's view, step, repeat.
 
     cameras: one DepthCamera per object; initial_views (B, 2). With `rule` ("paper"/"surface")
     the renders are differentiable in the view (training); without, they are plain.
     Runs `steps` steps (default: the episode's max_views) regardless of early stopping; the
     episode records where each object would have stopped. `corrupt` (training augmentation)
-    maps each batch of images to a damaged copy. Returns the list of Steps.
+    maps each batch of images to a damaged copy; `size` (B,) the objects' sizes (Episode.reset).
+    Returns the list of Steps.
     """
     from .depth_layer import render_views
 
-    episode.reset(torch.as_tensor(initial_views, dtype=torch.float32))
+    episode.reset(torch.as_tensor(initial_views, dtype=torch.float32), size)
     out = []
     for _ in range(steps or episode.config.max_views):
         view = episode.view

@@ -33,59 +33,64 @@ from .datasets import NAMES, SPLITS, default_cache_dir, open_dataset, open_split
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, run
-from .model import READOUTS
+from .model import READOUTS, READOUT_HELP
 from .policies import FIXED, PLANNERS, make_planner
 from .reach import ViewLimits, reach_of
 from .report import write_report
-from .validation import (Check, InputError, SEED_MAX, input_file, option, output_dir,
+from .validation import (Check, InputError, SEED_MAX, input_file, nested, option, output_dir,
                          validate)
 
 
 @dataclass
 class EvalConfig:
-    # the model (default: the dataset's shipped one)
-    checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None))
-    # the REINFORCE-trained model, for "reinforce"
-    reinforce_checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None))
-    planner_checkpoints: dict = option({})  # planner -> its own model file
+    checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None),
+                                    help="learned model (default: the dataset's shipped one)")
+    reinforce_checkpoint: str | None = option(None, kind=str, optional=True, length=(1, None), help=(
+        "model trained with 'train --policy reinforce' (for the reinforce planner)"))
+    planner_checkpoints: dict = option({}, flag=False, help="planner -> its own model file")
     planners: tuple = option(("learned", "random", "straight", "oracle"), length=(1, None),
-                             items=Check(str, choices=PLANNERS))
-    dataset: str = option("procedural", choices=NAMES)
-    root: str | None = option(None, kind=str, optional=True, length=(1, None))
-    split: str = option("test", choices=SPLITS)  # val: for choices; cross: held-out styles
-    objects: int = option(0, lo=0)          # 0: the whole split; else a seeded sample
-    starts: int = option(1, lo=1, hi=50)    # initial views per object, a seeded sample of the 50
-    steps: int = option(10, lo=1, hi=100)
-    entropy_threshold: float = option(0.1, lo=0)
-    seed: int = option(0, lo=0, hi=SEED_MAX)
-    out: str = option("runs/eval", length=(1, None))
-    shared: bool = option(True)             # also score every planner with the shared classifier
-    # where the shared classifier is kept (trained once for its shapes and camera); None: in out
-    judge: str | None = option(None, kind=str, optional=True, length=(1, None))
-    keep_judge: bool = option(False)        # judge is the user's file: used as it is, never trained over
-    oracle_candidates: int = option(50, lo=1, hi=10_000)
-    trajectory_figures: int = option(3, lo=0, hi=100)
-    # the views a robot can take (reach.ViewLimits, degrees of elevation): the initial views are
-    # the paper's 50 that lie in the band, and every planner keeps to it; default the whole sphere
-    min_elevation: float = option(-90.0, lo=-90, hi=90)
-    max_elevation: float = option(90.0, lo=-90, hi=90)
-    # degrees: every object turned about z by its own seeded yaw within +-this, its box re-fitted
-    # (a detector that knows the heading only roughly; the fixed path and the judge see it too)
-    yaw: float = option(0.0, lo=0, hi=180)
-    # the answer after t views (ModelConfig.readout: last, mean or mean+mirror); None: each model's own
-    readout: str | None = option(None, kind=str, optional=True, choices=READOUTS)
-    # weigh what each object's size says of its class, where the model carries a size prior
-    size: bool = option(True)
+                             items=Check(str, choices=PLANNERS),
+                             help=f"comma-separated, from {','.join(PLANNERS)}")
+    dataset: str = option("procedural", choices=NAMES, help="dataset layout")
+    root: str | None = option(None, kind=str, optional=True, length=(1, None),
+                              help="dataset root folder")
+    split: str = option("test", choices=SPLITS, help=(
+        "which split (val: a seeded tenth of each class of train, where choices are made; cross: "
+        "a generated benchmark's held-out styles)"))
+    objects: int = option(0, lo=0, help="seeded sample of objects (0: all)")
+    starts: int = option(1, lo=1, hi=50, help="initial views per object (a seeded sample of the 50)")
+    steps: int = option(10, lo=1, hi=100, help="views per episode")
+    entropy_threshold: float = option(0.1, lo=0, help="early-stop entropy (nats)")
+    seed: int = option(0, lo=0, hi=SEED_MAX, help="objects, initial views, random planner")
+    out: str = option("runs/eval", length=(1, None), help="report folder")
+    shared: bool = option(True, help="also score every planner with the shared multi-view "
+                                     "classifier (--no-shared: skip it)")
+    judge: str | None = option(None, kind=str, optional=True, length=(1, None), help=(
+        "a trained shared classifier to score with and pick the fixed path by, used as it is (e.g. "
+        "docs/results/modelnet10/shared_classifier.pt); refused if trained on other shapes or "
+        "through another camera (default: OUT/shared_classifier.pt, trained there first, minutes)"))
+    keep_judge: bool = option(False, flag=False, help=(
+        "judge is the user's file: used as it is, never trained over"))
+    oracle_candidates: int = option(50, lo=1, hi=10_000, flag=False,
+                                    help="candidate views the oracle planner weighs")
+    trajectory_figures: int = option(3, lo=0, hi=100, flag=False,
+                                     help="objects whose views are drawn")
+    # the initial views are the paper's 50 that lie in the band, and every planner keeps to it
+    limits: ViewLimits = nested(ViewLimits, flat=True)
+    # a detector that knows the heading only roughly; the fixed path and the judge see it too
+    yaw: float = option(0.0, lo=0, hi=180, help=(
+        "degrees: turn every object by its own seeded yaw within +-this, its box re-fitted"))
+    readout: str | None = option(None, kind=str, optional=True, choices=READOUTS,
+                                 help=READOUT_HELP + "; default each model's own")
+    size: bool = option(True, help=(
+        "weigh what each object's size says of its class, where the model carries a size prior "
+        "(modelnet10.pt, as the node's object_size); --no-size: from the images alone"))
 
     def __post_init__(self):
-        validate(self)
-        self.limits()  # min above max is refused now
+        validate(self)  # min above max is refused now (ViewLimits)
         twice = sorted({p for p in self.planners if self.planners.count(p) > 1})
         if twice:
             raise InputError(f"planners: {', '.join(twice)} named more than once")
-
-    def limits(self) -> ViewLimits:
-        return ViewLimits(self.min_elevation, self.max_elevation)
 
 
 @dataclass
@@ -136,7 +141,7 @@ def halves(total, seed):
 
 
 def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fixed_path=None):
-    initial = cfg.limits().initial_views(50)
+    initial = cfg.limits.initial_views(50)
     parts = []
     for b in range(0, len(objects), chunk):
         idx = objects[b:b + chunk]
@@ -145,9 +150,10 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
                                shapes.labels[idx])
         sizes = shapes.sizes(idx) if cfg.size and model.size_prior is not None else None
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
-                     reach=reach_of(cfg.limits()), size=None if sizes is None else torch.from_numpy(sizes))
+                     reach=reach_of(cfg.limits))
         with torch.no_grad():
-            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps)
+            run(ep, cams, initial[starts[b:b + chunk]], cfg.steps,
+                size=None if sizes is None else torch.from_numpy(sizes))
         parts.append((torch.stack(ep.views, 1).numpy(), torch.stack(ep.probs, 1).numpy(),
                       torch.stack(ep.info_gain, 1).numpy(), ep.stopped_at.numpy()))
     views, probs, gain, stopped = (np.concatenate(x) for x in zip(*parts))
@@ -169,11 +175,9 @@ def score_shared(net, shapes, ro: Rollout, chunk=50):
 
 def checkpoint_split(path, cfg: EvalConfig, splits=None):
     """(model, classes, cfg's dataset split as the model's camera sees it, the checkpoint dict)
-    for a checkpoint (None: the shipped one), refused unless its classes are the dataset's. `splits` keeps the
-    splits (and their built cameras) for the next checkpoint with the same camera."""
-    if path is None and cfg.dataset in checkpoint.SHIPPED_FOR:
-        path = checkpoint.shipped(cfg.dataset)  # the dataset's own shipped model
-    model, classes, ckpt = checkpoint.load_model(path)
+    for a checkpoint (None: the dataset's shipped one), refused unless its classes are the dataset's.
+    `splits` keeps the splits (and their built cameras) for the next checkpoint with the same camera."""
+    model, classes, ckpt = checkpoint.load_model(path, dataset=cfg.dataset)
     size, radius = model.config.image_size, model.config.radius
     splits = {} if splits is None else splits
     if (size, radius) not in splits:
@@ -217,7 +221,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
         raise InputError(f"objects = {cfg.objects}, but the {cfg.dataset} {cfg.split} split holds "
                          f"{held}{' beside the fixed path' * (pool is not None)} (0 = all of them)")
     objects, starts = sample_episodes(cfg.objects, len(test), cfg.starts, cfg.seed,
-                                      len(cfg.limits().initial_views(50)), pool)
+                                      len(cfg.limits.initial_views(50)), pool)
     models = {name: checkpoint.load_model(path, classes)[0] for name, path in paths.items()}
     for m in (model, *models.values()) if cfg.readout else ():
         m.config.readout = cfg.readout
@@ -238,7 +242,7 @@ def evaluate(cfg: EvalConfig, progress=True, runs=()):
                             seed=cfg.seed, progress=progress, val=val)
         if follow:  # chosen on the validation split, which the judge did not learn from (it stops on it)
             from .view_sets import fixed_path
-            fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits(),
+            fixed, val_acc = fixed_path(net, val, seed=cfg.seed, limits=cfg.limits,
                                         indices=picked_on, length=cfg.steps - 1)
             if progress:
                 print(f"fixed path {np.round(fixed, 3).tolist()} (shared-classifier accuracy "

@@ -26,7 +26,7 @@ import torch
 from torch import nn
 
 from . import geometry
-from .episode import Episode, EpisodeConfig, run
+from .episode import Episode, EpisodeConfig, Planner, run
 from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
 from .validation import InputError
@@ -130,7 +130,7 @@ class ReinforceLoss(nn.Module):
         return ce + policy, correct.mean()
 
 
-class ImitationLoss(nn.Module):
+class ImitationLoss(nn.Module, Planner):
     """FC_view imitates a label-aware teacher (policies.teacher_choice), DAgger-style; the
     classifier learns on the states visited.
 
@@ -191,7 +191,7 @@ class ImitationLoss(nn.Module):
         return self.candidates[choice.cpu().numpy()]
 
 
-class LocLoss(nn.Module):
+class LocLoss(nn.Module, Planner):
     """Stage loc: the paper's head FC_loc learns to make the move FC_view would make. Its
     increment is regressed onto the one toward FC_view's choice (increment_toward, within
     +-loc_bound), on the states of episodes that follow FC_loc itself or, at `mix` chance a step,

@@ -69,15 +69,11 @@ def yawed(vertices, yaw):
     return normalise(np.asarray(vertices, dtype=np.float64) @ yaw_matrix(yaw))
 
 
-def read_off(path):
-    """Parse an OFF file, including the fused header of ModelNet ('OFF3514 3546 0') and
-    polygons (fanned into triangles) -> (vertices (V, 3) float64, faces (F, 3) int64)."""
-    return parse_off(Path(path).read_text(errors="strict"))
-
-
 def parse_off(text):
-    """`read_off` on the text of a file. The tokens are converted by numpy in blocks, so a
-    4 MB ModelNet file parses in tens of milliseconds; tokens after the last face are ignored."""
+    """Parse the text of an OFF file, including the fused header of ModelNet ('OFF3514 3546 0')
+    and polygons (fanned into triangles) -> (vertices (V, 3) float64, faces (F, 3) int64). The
+    tokens are converted by numpy in blocks, so a 4 MB ModelNet file parses in tens of
+    milliseconds; tokens after the last face are ignored."""
     if "#" in text:
         text = re.sub(r"#[^\r\n]*", " ", text)
     tokens = text.split()

@@ -35,23 +35,30 @@ from .validation import InputError, option, validate
 ENCODERS = ("compact", "wide", "alexnet")
 READOUTS = ("last", "mean", "mean+mirror")
 INPUT_SIZE = {"compact": 64, "wide": 64, "alexnet": 227}
+READOUT_HELP = ("the answer after t views: FC_class on the last state (last, the paper), the mean of "
+                "every step's class probabilities (mean), or that mean with each step's averaged "
+                "with its mirror image's (mean+mirror)")
 
 
 @dataclass
 class ModelConfig:
-    num_classes: int = option(10, lo=2, hi=100_000)
+    num_classes: int = option(10, lo=2, hi=100_000, flag=False, help="classes (the dataset's)")
     # compact (64x64, CPU), wide (64x64, twice the channels, batch-normalised) or alexnet (227x227)
-    encoder: str = option("compact", choices=ENCODERS)
-    feature_size: int = option(256, lo=1, hi=8192)      # e_t
-    hidden_size: int = option(256, lo=1, hi=8192)       # h_t, the paper's best
-    max_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True)  # |dtheta|, |dphi| bound, rad
-    radius: float = option(1.0, lo=0, hi=100, lo_open=True)  # viewing-sphere radius trained at
-    view_input: bool = option(False)    # feed the current view to the RNN (MV-RNN style)
-    candidates: int = option(0, lo=0, hi=10_000)  # > 0: FC_view scores this many candidate views
+    encoder: str = option("compact", choices=ENCODERS, help="Conv2D encoder")
+    feature_size: int = option(256, lo=1, hi=8192, flag=False, help="image features e_t")
+    hidden_size: int = option(256, lo=1, hi=8192, help="RNN hidden size (h_t; 256 the paper's best)")
+    max_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True,
+                             help="view increment bound |dtheta|, |dphi|, radians")
+    radius: float = option(1.0, lo=0, hi=100, lo_open=True, help="viewing-sphere radius R")
+    view_input: bool = option(False, help="feed the current view to the RNN (MV-RNN style)")
+    candidates: int = option(0, lo=0, hi=10_000, help=(
+        "size of FC_view, the head scoring candidate views (imitation; 0 = none)"))
     # the state the heads read: the RNN's h_t (the paper), or h_t beside the element-wise maximum
     # of the image features seen so far (max: a view's evidence is never forgotten, as in MVCNN's
     # view pooling, so more views cannot hide what one view showed)
-    memory: str = option("rnn", choices=("rnn", "rnn+max"))
+    memory: str = option("rnn", choices=("rnn", "rnn+max"), help=(
+        "the state the heads read: the RNN's (the paper), or beside it the running maximum of the "
+        "image features seen (rnn+max)"))
     # the answer after t views: FC_class on the last state (last, the paper), or the mean of the
     # class probabilities of every step so far (mean: each view's answer counts, so a late view
     # that misleads cannot overturn what the earlier ones agreed on). Training reads each step's
@@ -60,13 +67,15 @@ class ModelConfig:
     # left to right read as the view (theta, pi - phi) of the object mirrored x -> -x, carried in
     # an RNN state of its own (test-time augmentation for a model trained with mirrored shapes,
     # in eval mode only: training reads each step's own logits; twice the encoder's work a frame)
-    readout: str = option("last", choices=READOUTS)
+    readout: str = option("last", choices=READOUTS, help=READOUT_HELP)
     # > 0: FC_loc is the paper's single layer plus a ReLU layer of this width beside it, its output
     # layer zero at first, so the increment is the single layer's until training stage loc fits
     # both (one linear layer cannot follow FC_view's choice, a jump that depends on the view and
     # the state); from stage loc on, a step reaches max_step + loc_step (rad) a component
-    loc_hidden: int = option(0, lo=0, hi=8192)
-    loc_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True)
+    loc_hidden: int = option(0, lo=0, hi=8192, help=(
+        "width of FC_loc's hidden layer, beside the paper's single layer (0: none)"))
+    loc_step: float = option(0.8, lo=0, hi=math.pi, lo_open=True, help=(
+        "with --loc-hidden: from stage loc on a step reaches max_step + this (rad)"))
 
     def __post_init__(self):
         validate(self)

@@ -12,7 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""View planners. Each drives the same Episode: given the episode and its last step, the next view.
+"""View planners (episode.Planner). Each drives the same Episode: given the episode and its last
+step, the next view.
 
 Every planner keeps to the episode's `reach` (reach.py) when it has one: the candidate-based ones
 (imitation, oracle) mask the candidates it forbids, random samples its band, and the continuous
@@ -49,7 +50,7 @@ import numpy as np
 import torch
 
 from . import geometry
-from .episode import mirrored
+from .episode import Planner, entropy, lookahead_logits
 from .validation import InputError
 
 PLANNERS = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "fixed+imitation",
@@ -59,18 +60,17 @@ PAIR = 2  # fixed+imitation's views from the path after the first: the pair chos
 PRIVILEGED = ("oracle", "greedy")  # they render the object's mesh: not for a robot
 
 
-class RandomPlanner:
+class RandomPlanner(Planner):
     def __init__(self, seed=0):
         self.rng = np.random.default_rng(seed)
 
     def next_view(self, episode, step):
-        reach = getattr(episode, "reach", None)
-        if reach is not None:  # uniform on the band the robot can reach
-            return reach.limits.random_views(self.rng, len(episode.view))
+        if episode.reach is not None:  # uniform on the band the robot can reach
+            return episode.reach.limits.random_views(self.rng, len(episode.view))
         return geometry.random_views(self.rng, len(episode.view))
 
 
-class StraightPlanner:
+class StraightPlanner(Planner):
     def __init__(self, step_angle=2 * math.pi / 9):
         self.step_angle = step_angle
 
@@ -82,7 +82,7 @@ class StraightPlanner:
         return np.stack([path[episode.steps % len(path)] for path in self.paths])
 
 
-class FixedPlanner:
+class FixedPlanner(Planner):
     """The views `path` (k, 2) after the first (its first `views` only, if given), the same for
     every object; then the planner `then` (default: random views)."""
 
@@ -98,7 +98,7 @@ class FixedPlanner:
 
 def reachable(episode, candidates):
     """(K,) bool: the candidates (K, 2) the episode's robot can take (all without a reach)."""
-    reach = getattr(episode, "reach", None)
+    reach = episode.reach
     return np.ones(len(candidates), bool) if reach is None else reach.allows(candidates)
 
 
@@ -113,8 +113,7 @@ def visited_mask(episode, candidates, pending=True):
     """(B, K) bool: the candidates nearest to the views the episode has taken, and to the views
     it asked for where the robot took another (so a request is not made again); with
     `pending`, the view asked for next too."""
-    views = list(episode.views if pending else episode.views[:episode.steps])
-    views = torch.stack(views + list(getattr(episode, "requested", []))).detach().cpu().numpy()
+    views = episode.marked_views(pending).cpu().numpy()
     b = views.shape[1]                                                              # (T, B, 2)
     nearest = nearest_candidates(views.reshape(-1, 2), candidates).reshape(-1, b)   # (T, B)
     mask = np.zeros((b, len(candidates)), dtype=bool)
@@ -132,12 +131,12 @@ def exhausted(episode, candidates):
     """(B,) bool: every candidate the episode's robot can reach has been seen (or asked for and
     missed), so a candidate planner has nothing new to look at."""
     free = reachable(episode, candidates)
-    if episode.steps + len(getattr(episode, "requested", [])) < free.sum():
+    if len(episode.marked_views(pending=False)) < free.sum():
         return np.zeros(len(episode.view), bool)  # each view marks one candidate at most
     return (visited_mask(episode, candidates, pending=False) | ~free[None]).all(1)
 
 
-class ImitationPlanner:
+class ImitationPlanner(Planner):
     """FC_view's best-scored candidate view among those not yet visited (never a revisit)."""
 
     def __init__(self, model):
@@ -151,15 +150,6 @@ class ImitationPlanner:
             scores = episode.model.score_views(episode.hidden).cpu().numpy()
         scores[unavailable(episode, self.candidates)] = -np.inf
         return self.candidates[scores.argmax(1)]
-
-
-def lookahead_logits(model, features, hidden, views):
-    """Class logits after one more step from each state, with each candidate view:
-    features (B, K, F) of the candidates, hidden (B, H), views (K, 2) -> (B, K, C)."""
-    b, k = features.shape[:2]
-    views = torch.as_tensor(views, dtype=torch.float32, device=features.device)
-    h = model.advance(features.reshape(b * k, -1), hidden.repeat_interleave(k, 0), views.repeat(b, 1))
-    return model.classify(h).reshape(b, k, -1)
 
 
 def teacher_choice(model, features, hidden, labels, views, visited):
@@ -178,15 +168,8 @@ def answer_margins(episode, features, views, labels, mirror_features=None):
     puts the true class above the strongest other (negative: the answer would be wrong).
     features (B, K, F) of the candidates (mirror_features: of their images flipped, for the
     readout mean+mirror), views (K, 2), labels (B,)."""
-    model = episode.model
     with torch.no_grad():
-        p = lookahead_logits(model, features, episode.hidden, views).softmax(-1)      # (B, K, C)
-        if mirror_features is not None:
-            flipped = mirrored(torch.as_tensor(views, dtype=torch.float32))
-            p = (p + lookahead_logits(model, mirror_features, episode.mirror_hidden,
-                                      flipped).softmax(-1)) / 2
-        if model.config.readout != "last":  # the mean of every step's, this one's included
-            p = (episode.probs_sum[:, None] + p) / (episode.steps + 1)
+        p = episode.lookahead(features, views, mirror_features)                      # (B, K, C)
         index = labels[:, None, None].expand(-1, p.shape[1], 1)
         return p.gather(2, index)[..., 0] - p.scatter(2, index, -1.0).amax(2)
 
@@ -214,11 +197,9 @@ class CandidateFeatures:
         return torch.stack([self.of(model, i, device, flipped) for i in range(len(self.cameras))])
 
 
-class OraclePlanner(CandidateFeatures):
+class OraclePlanner(CandidateFeatures, Planner):
     """PRIVILEGED: the unvisited candidate after which the episode's answer is right by the
     widest margin (knows the label, renders the object): the upper bound of one-step planning."""
-
-    privileged = True
 
     def __init__(self, cameras, labels, candidates=50):
         super().__init__(cameras, candidates)
@@ -238,11 +219,9 @@ class OraclePlanner(CandidateFeatures):
         return self.candidates[margin.argmax(1).cpu().numpy()]
 
 
-class GreedyPlanner(CandidateFeatures):
+class GreedyPlanner(CandidateFeatures, Planner):
     """PRIVILEGED, without the label: the candidate whose next prediction has the least entropy
     (the largest one-step information gain); it may revisit a view."""
-
-    privileged = True
 
     def next_view(self, episode, step):
         model, best = episode.model, []
@@ -252,7 +231,7 @@ class GreedyPlanner(CandidateFeatures):
                 feats = self.of(model, i, episode.view.device)
                 p = lookahead_logits(model, feats[None], episode.hidden[i:i + 1],
                                      self.candidates)[0].softmax(-1)
-                h = -(p * torch.log(p.clamp_min(1e-12))).sum(-1).masked_fill(masked, math.inf)
+                h = entropy(p).masked_fill(masked, math.inf)
                 best.append(self.candidates[int(h.argmin())])
         return np.stack(best)
 

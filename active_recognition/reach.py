@@ -38,8 +38,11 @@ BLOCK_RADIUS = math.radians(14.0)  # a view this near a blocked one is blocked (
 
 @dataclass(frozen=True)
 class ViewLimits:
-    min_elevation: float = option(-90.0, lo=-90, hi=90)  # degrees; -90 = from straight below
-    max_elevation: float = option(90.0, lo=-90, hi=90)   # degrees; 90 = from straight above
+    min_elevation: float = option(-90.0, lo=-90, hi=90, help=(
+        "degrees above the plane through the object's centre (object frame, z up): no view from "
+        "lower; -90 = the whole sphere (the paper's), 0 suits an object on a floor or table"))
+    max_elevation: float = option(90.0, lo=-90, hi=90, help="degrees: no view from higher; 90 = "
+                                                            "from straight above")
 
     def __post_init__(self):
         validate(self)

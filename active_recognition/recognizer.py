@@ -58,23 +58,32 @@ def choose_planner(name, model, ckpt):
 
 @dataclass
 class SensingConfig:
-    # metres: the object box's longest edge (a real object: 1 mm to 100 m)
-    object_size: float = option(1.0, lo=1e-3, hi=100)
-    # metres from the object's centre to the camera (up to plausible.MAX_DISTANCE); 0 = auto
-    standoff: float = option(0.0, lo=0, hi=100)
-    # fewer object pixels (share of the model's image): the image is empty
-    min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True)
-    max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS)  # so many empty images end the episode
-    box_margin: float = option(0.1, lo=0, hi=1)  # keep points this far (x object_size) outside
-    # at the first view, move the object's centre toward the centre of the box of what it sees
-    # (along the axes it sees whole; the first TRUSTED ignored), as a detector's centre is off:
-    # at most this far (x object_size); 0 = trust the frame
-    recentre: float = option(0.25, lo=0, hi=1)
-    # so many views in a row found unreachable (view_unreachable) end the episode: no_image
-    max_unreachable_views: int = option(2, lo=1, hi=MAX_VIEWS)
-    # weigh what object_size says of the class, where the checkpoint carries a size prior
-    # (size_prior.py; modelnet10.pt): a night stand and a dresser differ most in size
-    use_size: bool = option(True)
+    # a real object: 1 mm to 100 m
+    object_size: float = option(1.0, lo=1e-3, hi=100, help=(
+        "metres: longest edge of the object's bounding box (from the next reset)"))
+    # up to plausible.MAX_DISTANCE
+    standoff: float = option(0.0, lo=0, hi=100, help=(
+        "metres from the object's centre to the camera in next_view; 0 = auto: the object's "
+        "bounding sphere fills the CameraInfo's narrower field of view with 10 % to spare"))
+    min_object_fraction: float = option(0.003, lo=0, hi=1, hi_open=True, help=(
+        "an image showing less of the object (share of the model's pixels) is not classified; "
+        "the view is asked for again"))
+    max_empty_views: int = option(3, lo=1, hi=MAX_VIEWS, help=(
+        "so many empty images in a row end the episode: no_object"))
+    box_margin: float = option(0.1, lo=0, hi=1, help=(
+        "keep points this far (x object_size) outside the object's box"))
+    # along the axes it sees whole; the first TRUSTED ignored
+    recentre: float = option(0.25, lo=0, hi=1, help=(
+        "at an object's first view, move its centre toward the centre of the box of what the view "
+        "sees (a detector's centre is off; the first 5 % ignored), at most this far "
+        "(x object_size); 0 = trust the object frame"))
+    max_unreachable_views: int = option(2, lo=1, hi=MAX_VIEWS, help=(
+        "so many unreachable views in a row, or none left, end the episode: no_image (defaults: "
+        "a silent camera ends an episode in 12 s)"))
+    # size_prior.py: a night stand and a dresser differ most in size
+    use_size: bool = option(True, help=(
+        "weigh what object_size says of the class, where the checkpoint carries a size prior "
+        "(modelnet10.pt); false when object_size is a guess"))
 
     def __post_init__(self):
         validate(self)
@@ -106,20 +115,21 @@ class Observation:
 class ActiveRecognizer:
     def __init__(self, checkpoint_path=None, episode=EpisodeConfig(), seed=0, planner="auto",
                  sensing=SensingConfig(), limits=ViewLimits()):
-        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path or None)
+        self.model, self.classes, ckpt = checkpoint.load_model(checkpoint_path)
         size = self.model.config.image_size
         self.camera = CameraConfig(size, size, radius=self.model.config.radius)
         self.sensing = sensing
         self.planner = choose_planner(planner, self.model, ckpt)
         self.reach = Reach(limits)
-        self.episode = Episode(self.model, episode, make_planner(
-            self.planner, seed=seed, model=self.model, fixed_path=ckpt.get("fixed_path")),
-            reach=self.reach, forward=single_step(self.model))
+        planner = make_planner(self.planner, seed=seed, model=self.model,
+                               fixed_path=ckpt.get("fixed_path"))
+        self.episode = Episode(self.model, episode, planner, reach=self.reach,
+                               forward=single_step(self.model))
         self.rng = np.random.default_rng(seed)
         self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
         # the views a planner chooses among (FC_view's, else the paper's 50): once every one it
         # can reach has been used, the episode ends
-        self.planner_candidates = getattr(self.episode.planner, "candidates", None)
+        self.planner_candidates = getattr(planner, "candidates", None)
         if self.planner_candidates is None:
             self.planner_candidates = geometry.fibonacci_views(50)
         self.reset()
@@ -136,8 +146,8 @@ class ActiveRecognizer:
             self.sensing = sensing
         if view is None:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
-        self.episode.reset(torch.tensor(view, dtype=torch.float32))
-        self.episode.size = torch.tensor([self.sensing.object_size]) if self.sensing.use_size else None
+        self.episode.reset(torch.tensor(view, dtype=torch.float32),
+                           [self.sensing.object_size] if self.sensing.use_size else None)
         self.empty_views, self.no_object = 0, False
         self.no_image, self.unreachable_run, self.timed_out = False, (None, 0), False
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
@@ -242,8 +252,7 @@ class ActiveRecognizer:
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
-            self.episode.done[0] = True  # every reachable candidate used: nothing new to see
-            self.episode.stopped_at[0] = self.episode.steps
+            self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
         return Observation("recognized" if done else "classified", probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
@@ -263,7 +272,8 @@ class ActiveRecognizer:
             torch.set_num_threads(before)
 
     def views_taken(self):
-        return np.array([v[0].detach().numpy() for v in self.episode.views[:self.episode.steps]])
+        """(steps, 2) the views the images were taken from."""
+        return self.episode.visited()
 
     def view_unreachable(self) -> Observation:
         """No image came for the view asked for (a robot's arm could not get there, or the

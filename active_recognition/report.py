@@ -18,12 +18,12 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
 from . import geometry
+from .files import atomic_write, write_text
 from .visualize import plt, save_figure
 
 PAPER = {  # the paper's accuracy after 3 / 6 / 9 views, random initial view (Table)
@@ -48,9 +48,7 @@ def write_report(results, s, classes, cfg, out, shapes):
     plot_gain(results, out / "information_gain.png")
     plot_trajectories(results, shapes, out / "trajectories.png", cfg.trajectory_figures)
     markdown = render_markdown(results, s, cfg)
-    tmp = out / ".report.md.tmp"
-    tmp.write_text(markdown)
-    os.replace(tmp, out / "report.md")
+    write_text(out / "report.md", markdown)
 
 
 def table(rows, header):
@@ -184,8 +182,7 @@ def plot_trajectories(results, shapes, path, objects=3, views=6):
 
 
 def write_csv(path, results, classes):
-    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    with open(tmp, "w", newline="") as f:
+    with atomic_write(path, newline="") as f:
         w = csv.writer(f)
         steps = next(iter(results.values())).probs.shape[1]
         w.writerow(["planner", "object", "true", "start", "stopped_at", "early_stop_pred"]
@@ -204,10 +201,7 @@ def write_csv(path, results, classes):
                            + [classes[p] if p >= 0 else "" for p in shared]
                            + [f"{g:.4f}" for g in ro.gain[i]]
                            + [f"{t:.4f};{p:.4f}" for t, p in ro.views[i, :-1]])
-    os.replace(tmp, path)
 
 
 def write_json(path, data):
-    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    tmp.write_text(json.dumps(data, indent=1))
-    os.replace(tmp, path)
+    write_text(path, json.dumps(data, indent=1))

@@ -22,13 +22,13 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 from pathlib import Path
 
 import numpy as np
 import torch
 
 from .episode import Episode, EpisodeConfig, run
+from .files import atomic_write
 from .reach import ViewLimits, reach_of
 from .validation import InputError, read_text
 from .visualize import plt, save_figure
@@ -36,13 +36,11 @@ from .visualize import plt, save_figure
 
 def write_metrics(path, rows):
     """Rewrite the metrics CSV atomically."""
-    tmp = path.with_name(f".{path.name}.tmp")
     keys = list(dict.fromkeys(k for r in rows for k in r))
-    with open(tmp, "w", newline="") as f:
+    with atomic_write(path, newline="") as f:
         w = csv.DictWriter(f, keys)
         w.writeheader()
         w.writerows(rows)
-    os.replace(tmp, path)
 
 
 def read_metrics(path):

@@ -62,29 +62,37 @@ def kinect_sigma(z):
 
 @dataclass(frozen=True)
 class SensorConfig:
-    width: int = option(64, lo=1, hi=4096)
-    height: int = option(64, lo=1, hi=4096)
-    # horizontal field of view, degrees (used unless fx > 0)
-    fov: float = option(120.0, lo=0, hi=180, lo_open=True, hi_open=True)
-    fx: float = option(0.0, lo=0)   # K in pixels; 0 = from fov, square pixels, centred
-    fy: float = option(0.0, lo=0)
-    cx: float = option(0.0, lo=0)
-    cy: float = option(0.0, lo=0)
-    noise: str = option("none", choices=NOISE)
-    noise_scale: float = option(1.0, lo=0)   # multiplies the noise's sigma
-    dropout: float = option(0.0, lo=0, hi=1, hi_open=True)  # share of pixels lost at random
-    # degrees: drop pixels beside a depth jump steeper than a surface seen this far from face-on
-    # (flying pixels); 0 = off
-    edge_dropout: float = option(0.0, lo=0, hi=90, hi_open=True)
-    min_range: float = option(0.0, lo=0)     # metres; no return nearer
-    max_range: float = option(0.0, lo=0)     # metres; no return farther; 0 = unlimited
-    encoding: str = option("32FC1", choices=ENCODINGS)  # 16UC1 = whole millimetres
-    floor: bool = option(False)   # an opaque plane under the object; no pose below it
-    # the arm misses each requested pose by this orbit angle
-    pose_error_deg: float = option(0.0, lo=0, hi=90, hi_open=True)
-    # share of requests the arm never reaches (its motion planner fails): no image for them
-    unanswered: float = option(0.0, lo=0, hi=1)
-    object_size: float = option(1.0, lo=0, lo_open=True)  # metres: the mesh's longest box edge
+    width: int = option(64, lo=1, hi=4096, help="image width, pixels (realsense: 640)")
+    height: int = option(64, lo=1, hi=4096, help="image height, pixels (realsense: 480)")
+    fov: float = option(120.0, lo=0, hi=180, lo_open=True, hi_open=True,
+                        help="horizontal field of view, degrees (used unless fx > 0)")
+    fx: float = option(0.0, lo=0, help="focal length x, pixels; 0 = from fov, square pixels, "
+                                       "centred (realsense: 385)")
+    fy: float = option(0.0, lo=0, help="focal length y, pixels; 0 = fx")
+    cx: float = option(0.0, lo=0, help="principal point x, pixels; 0 = the image centre")
+    cy: float = option(0.0, lo=0, help="principal point y, pixels; 0 = the image centre")
+    noise: str = option("none", choices=NOISE, help="depth noise: none or kinect (sigma = 0.0012 + "
+                                                    "0.0019 (z - 0.4)^2 metres)")
+    noise_scale: float = option(1.0, lo=0, help="multiplies the noise's sigma")
+    dropout: float = option(0.0, lo=0, hi=1, hi_open=True,
+                            help="share of pixels lost at random (realsense: 0.03)")
+    edge_dropout: float = option(0.0, lo=0, hi=90, hi_open=True, help=(
+        "degrees: drop flying pixels beside depth jumps steeper than a surface this far from "
+        "face-on; 0 = off (realsense: 75)"))
+    min_range: float = option(0.0, lo=0, help="metres: no return nearer (realsense: 0.2)")
+    max_range: float = option(0.0, lo=0, help="metres: no return farther; 0 = none (realsense: 10)")
+    encoding: str = option("32FC1", choices=ENCODINGS, help="32FC1 (metres) or 16UC1 (whole "
+                                                            "millimetres, realsense)")
+    floor: bool = option(False, help="an opaque plane under the object; a pose below it gets no "
+                                     "image (realsense: true)")
+    pose_error_deg: float = option(0.0, lo=0, hi=90, hi_open=True, help=(
+        "the arm misses each requested pose by this orbit angle; camera/pose says where it went "
+        "(realsense: 2)"))
+    unanswered: float = option(0.0, lo=0, hi=1, help=(
+        "share of requests the arm never reaches (its motion planner fails): nothing is "
+        "published for them"))
+    object_size: float = option(1.0, lo=0, lo_open=True,
+                                help="metres: the mesh's longest bounding-box edge")
 
     def __post_init__(self):
         validate(self, "camera ")

@@ -26,7 +26,7 @@ from __future__ import annotations
 import gc
 import sys
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import replace
 
 import numpy as np
 import torch
@@ -34,118 +34,16 @@ from torch import nn
 from tqdm import tqdm
 
 from . import checkpoint, size_prior
-from .augment import Augment
-from .datasets import NAMES, default_cache_dir, open_splits, subset_with_every_class
+from .datasets import default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
-from .depth_layer import CameraConfig, GRADIENT_RULES
+from .depth_layer import CameraConfig
 from .devices import distributed, resolve_device
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
-from .model import ModelConfig, RecurrentAttention, initial_step_bias, set_initial_step
-from .reach import ViewLimits
+from .model import RecurrentAttention, set_initial_step
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
-from .schedule import SCHEDULES, lr_factor, set_lr
-from .validation import (Check, InputError, SEED_MAX, check_mapping, load_yaml, option, output_dir,
-                         validate)
-
-STAGES = ("pretrain", "joint", "loc")
-STEP_WEIGHTINGS = ("uniform", "early")
-POLICIES = ("learned", "reinforce", "hybrid", "imitation")
-MAX_EPOCHS = 100_000
-
-
-@dataclass
-class TrainConfig:
-    dataset: str = option("procedural", choices=NAMES)
-    root: str | None = option(None, kind=str, optional=True, length=(1, None))
-    out: str = option("runs/procedural", length=(1, None))
-    stage: str = option("all", choices=STAGES + ("all",))
-    policy: str = option("learned", choices=POLICIES)  # learned (end to end), reinforce, hybrid (both), imitation
-    imitation_mix: float = option(0.5, lo=0, hi=1)  # imitation: chance a step follows the teacher
-    distill_loc: float = option(0.0, lo=0)  # imitation: FC_loc's loss toward the teacher's view (the paper's head)
-    revisit_penalty: float = option(0.0, lo=0)      # learned: weight of VERAM's revisit penalty
-    random_views: float = option(0.0, lo=0, hi=1)   # chance a training step looks anywhere new
-    # the views a robot can take (reach.ViewLimits, degrees of elevation): every training view keeps inside
-    min_elevation: float = option(-90.0, lo=-90, hi=90)
-    max_elevation: float = option(90.0, lo=-90, hi=90)
-    pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
-    joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS)
-    loc_epochs: int = option(0, lo=0, hi=MAX_EPOCHS)  # stage loc: FC_loc learns FC_view's moves (imitation)
-    batch_size: int = option(32, lo=1, hi=100_000)
-    views_per_shape: int = option(4, lo=1, hi=1000)  # pre-training images per shape per batch
-    steps: int = option(10, lo=1, hi=100)            # views per training episode
-    lr_pretrain: float = option(1e-3, lo=0, lo_open=True)  # Adam; the paper's SGD used 0.01
-    lr_joint: float = option(3e-4, lo=0, lo_open=True)     # the paper: 0.001
-    lr_loc: float = option(3e-4, lo=0, lo_open=True)       # FC_loc alone, in stage loc
-    loc_passes: int = option(100, lo=1, hi=10_000)  # stage loc: passes through each round's moves
-    lr_schedule: str = option("constant", choices=SCHEDULES)  # over each stage (schedule.py)
-    view_gradient: str = option("surface", choices=GRADIENT_RULES)
-    lr_view_scale: float = option(1.0, lo=0)  # FC_loc's learning rate relative to the rest (joint)
-    step_weighting: str = option("uniform", choices=STEP_WEIGHTINGS)  # the joint loss's weights
-    initial_step: list | None = option(None, kind=list, optional=True, length=(2, 2),  # (dtheta, dphi) rad:
-                                       items=Check(float))  # FC_loc's bias when the joint stage starts
-    gradient_reduction: str = option("mean", choices=("mean", "sum"))
-    eval_shapes: int = option(200, lo=0)        # validation shapes scored after each epoch (0: none)
-    checkpoint_every: int = option(50, lo=1)    # batches
-    seed: int = option(0, lo=0, hi=SEED_MAX)
-    device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N")
-    resume: bool = option(False)
-    max_shapes: int = option(0, lo=0)           # a seeded N of the training shapes, each class in it (0: all)
-    yaw: bool = option(False)                   # augment: objects turned by a random yaw
-    yaw_range: float = option(180.0, lo=0, hi=180, lo_open=True)  # degrees: that yaw within +-this
-    frame_error: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: frame off by up to this
-    floor_cut: float = option(0.0, lo=0, hi=0.5, hi_open=True)    # augment: bottom cut by up to this
-    dropout: float = option(0.0, lo=0, hi=0.5, hi_open=True)      # augment: pixels missing, up to this
-    steep_dropout: float = option(0.0, lo=0, hi=1)  # augment: chance an image loses its steep pixels
-    mirror: float = option(0.0, lo=0, hi=1)     # augment: chance an object is mirrored left to right
-    stretch: float = option(0.0, lo=0, hi=0.5, hi_open=True)  # augment: axes scaled up to 1+this or down
-    model: dict = option({}, schema=ModelConfig)  # ModelConfig overrides
-
-    def __post_init__(self):
-        validate(self)
-        if "num_classes" in self.model:
-            raise InputError("model.num_classes comes from the dataset's classes: leave it out")
-        if self.policy == "imitation" and not self.model.get("candidates"):
-            raise InputError("policy imitation needs a view-scoring head: set model.candidates "
-                             "(--candidates 50)")
-        self.limits()  # min above max is refused now
-        if self.initial_step is not None:  # refuse it now, not after pre-training
-            initial_step_bias(self.initial_step, self.model.get("max_step", ModelConfig.max_step))
-        if self.stage == "loc" and not self.resume:
-            raise InputError("stage loc fits FC_loc of a trained model: run it with --resume on the "
-                             "run's folder (--out), or train with --stage all")
-        if self.model.get("loc_hidden") and not self.loc_epochs:
-            raise InputError("model.loc_hidden is FC_loc's hidden layer, which stage loc trains: set loc_epochs too")
-        if self.loc_epochs and (self.policy != "imitation" or not self.model.get("loc_hidden")):
-            raise InputError("stage loc (loc_epochs) fits FC_loc to FC_view's choices: it needs "
-                             "policy imitation and model.loc_hidden (its hidden layer's width)")
-        if not any(getattr(self, f"{s}_epochs") for s in (STAGES if self.stage == "all" else (self.stage,))):
-            raise InputError(f"nothing to train: stage {self.stage} with pretrain_epochs {self.pretrain_epochs}, "
-                             f"joint_epochs {self.joint_epochs} and loc_epochs {self.loc_epochs}")
-
-    def limits(self) -> ViewLimits:
-        """The elevation band the training views keep to."""
-        return ViewLimits(self.min_elevation, self.max_elevation)
-
-    def augment(self, camera=None) -> Augment:
-        """The augmentation these options ask for, on images of `camera` (a CameraConfig)."""
-        return Augment(self.yaw, self.frame_error, self.floor_cut, self.dropout, self.yaw_range,
-                       mirror=self.mirror, steep=self.steep_dropout, stretch=self.stretch,
-                       view_camera=camera)
-
-
-def preset_config(preset=None, flags=None, model=None) -> TrainConfig:
-    """The run's TrainConfig: the YAML `preset`, then the flags set, then the model fields set."""
-    values = {}
-    if preset is not None:
-        values = load_yaml(preset, "--config")
-        try:
-            values = check_mapping(TrainConfig, values)
-        except InputError as e:
-            raise InputError(f"--config {preset}: {e}") from None
-    values.update({k: v for k, v in (flags or {}).items() if v is not None and v is not False})
-    values["model"] = {**(values.get("model") or {}),
-                       **{k: v for k, v in (model or {}).items() if v is not None}}
-    return TrainConfig(**values)
+from .schedule import lr_factor, set_lr
+from .train_config import STAGES, TrainConfig, preset_config  # noqa: F401 (cli, tests)
+from .validation import InputError, output_dir
 
 
 def batches(n, batch, seed, stage, epoch, rank, world):
@@ -171,13 +69,13 @@ def train(cfg: TrainConfig, progress=True):
             done = run.state["epoch"] if run.state["stage"] == STAGES.index("joint") else 0
             raise InputError(f"stage loc: {cfg.out} has trained {done} of the {cfg.joint_epochs} joint epochs "
                              f"asked (--joint-epochs); resume it with --stage all first")
-        run.stage("loc", LocLoss(run.model, cfg.steps, cfg.imitation_mix, run.corrupt, cfg.limits()))
+        run.stage("loc", LocLoss(run.model, cfg.steps, cfg.imitation_mix, run.corrupt, cfg.limits))
     return run.finish()
 
 
 def joint_loss(cfg: TrainConfig, model, corrupt):
     """The episode loss of the joint stage for cfg.policy."""
-    limits = cfg.limits()
+    limits = cfg.limits
     if cfg.policy in ("reinforce", "hybrid"):
         rule = cfg.view_gradient if cfg.policy == "hybrid" else None
         return ReinforceLoss(model, cfg.steps, cfg.step_weighting, rule=rule,
@@ -204,13 +102,13 @@ class Trainer:
                 "(stage loc fits FC_loc of a run trained before: give its --out)" if cfg.stage == "loc"
                 else "(leave out --resume to start afresh)"))
         self.load_data()
-        self.mcfg = ModelConfig(**{"num_classes": len(self.classes), **cfg.model})
+        self.mcfg = replace(cfg.model, num_classes=len(self.classes))
         self.model = RecurrentAttention(self.mcfg).to(self.device)
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
         self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
         self.size_prior = size_prior.entry(self.shapes, len(self.classes))  # once: every checkpoint holds it
         self.augment = cfg.augment(camera)
-        self.limits = cfg.limits()
+        self.limits = cfg.limits
         self.starts = self.limits.initial_views(50)  # the paper's 50 initial views, in the band
         self.corrupt = self.augment.images if self.augment.changes_images else None
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
@@ -219,7 +117,7 @@ class Trainer:
             ckpt = checkpoint.read_fitting(self.ckpt_path, self.mcfg, self.classes, resumable=True,
                                            grow_loc=True)
             self.state, elapsed = dict(ckpt["state"]), ckpt["elapsed"]
-            checkpoint.check_resume_settings(self.ckpt_path, ckpt.get("config"), asdict(cfg))
+            checkpoint.check_resume_settings(self.ckpt_path, ckpt.get("config"), cfg.to_dict())
             # a run without FC_loc's hidden layer takes one before stage loc, as a fresh run has it
             grown = ckpt["model_args"].get("loc_hidden", 0) != self.mcfg.loc_hidden
             if grown and self.state["stage"] >= STAGES.index("loc"):
@@ -383,7 +281,7 @@ class Trainer:
         if self.rank == 0:
             checkpoint.stop_if_diverged(self.model, f"step {self.state['step']}", self.ckpt_path, self.saved)
             checkpoint.save(self.ckpt_path, self.payload(
-                optimizer=opt.state_dict(), state=dict(self.state), config=asdict(self.cfg),
+                optimizer=opt.state_dict(), state=dict(self.state), config=self.cfg.to_dict(),
                 elapsed=time.perf_counter() - self.start))
             self.saved = self.state["step"]
 
@@ -396,5 +294,5 @@ class Trainer:
         if self.rank == 0:
             checkpoint.stop_if_diverged(self.model, "the end", self.ckpt_path, self.saved)
             checkpoint.save(self.out / "final.pt", self.payload(
-                config=asdict(self.cfg), elapsed=time.perf_counter() - self.start))
+                config=self.cfg.to_dict(), elapsed=time.perf_counter() - self.start))
         return self.model

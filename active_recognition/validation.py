@@ -16,9 +16,12 @@
 """One way to check what a user gives: options, presets, node parameters, command-line numbers.
 
 A dataclass field made with `option(default, ...)` carries a `Check` (type, range, choices,
-length, nested options) in its metadata. `validate(obj)` applies every field's check (call it in
-__post_init__), `check_mapping(cls, values)` names unknown keys, nested ones too, `arg(check)`
-turns a check into an argparse type, and `load_yaml` names the file and line of a syntax error.
+length, nested options) and its help in its metadata: it is the one definition of that option,
+from which options.py makes the flags and node parameters. `nested(cls)` holds a dataclass of
+options (flat: its keys beside the outer ones). `validate(obj)` applies every field's check (call
+it in __post_init__), `check_mapping(cls, values)` names unknown keys, nested ones too, `group`
+and `as_dict` map flat names to nested fields and back, `arg(check)` turns a check into an
+argparse type, and `load_yaml` names the file and line of a syntax error.
 NaN and infinity are refused wherever a number is read. Every refusal is an `InputError` whose
 message names the key, the value and what is allowed.
 """
@@ -142,27 +145,93 @@ class Check:
                 and (hi is None or (value < hi if self.hi_open else value <= hi)))
 
 
-def option(default, kind=None, **check):
-    """A dataclass field with its Check (the kind defaults to the default value's type)."""
-    meta = {"check": Check(kind or type(default), **check)}
+def option(default, kind=None, *, help="", flag=None, metavar=None, runtime=False,  # noqa: A002
+           required=False, exclusive=None, **check):
+    """A dataclass field with its Check (the kind defaults to the default value's type) and what the
+    generated interfaces say of it (options.py): `help`; `flag` the command-line spelling (False:
+    none), `metavar`, `required`, `exclusive` (flags of one name exclude each other); `runtime`: a
+    node may change it while running (else its parameter is read-only)."""
+    meta = {"check": Check(kind or type(default), **check), "help": help, "flag": flag,
+            "metavar": metavar, "runtime": runtime, "required": required, "exclusive": exclusive}
     if isinstance(default, (list, dict)):
         return dataclasses.field(default_factory=lambda: type(default)(default), metadata=meta)
     return dataclasses.field(default=default, metadata=meta)
 
 
+def nested(cls, default=None, *, flat=False, runtime=False, help=""):  # noqa: A002
+    """A dataclass field holding the options of dataclass `cls` (an instance; a mapping of its
+    options is taken too, over `default`). `flat`: its options sit beside the outer ones in YAML,
+    in saved configs and among node parameters (ViewLimits' min_elevation), not under the
+    field's name (model: {hidden_size: ...}). `runtime` holds for all of its options."""
+    meta = {"check": Check(dict, schema=cls), "nested": cls, "flat": flat, "runtime": runtime,
+            "help": help}
+    return dataclasses.field(default_factory=lambda: dataclasses.replace(default or cls()),
+                             metadata=meta)
+
+
 def checks(cls):
-    """{field name: Check} of a dataclass made with `option` fields."""
-    return {f.name: f.metadata["check"] for f in dataclasses.fields(cls) if "check" in f.metadata}
+    """{option name: Check} of a dataclass made with `option` fields (a flat nested one's inline)."""
+    out = {}
+    for f in dataclasses.fields(cls):
+        if f.metadata.get("flat"):
+            out.update(checks(f.metadata["nested"]))
+        elif "check" in f.metadata:
+            out[f.name] = f.metadata["check"]
+    return out
 
 
 def validate(obj, prefix=""):
-    """Check and normalise every `option` field of a dataclass instance (frozen ones too)."""
-    for name, check in checks(type(obj)).items():
-        object.__setattr__(obj, name, check(prefix + name, getattr(obj, name)))
+    """Check and normalise every `option` field of a dataclass instance (frozen ones too); a nested
+    field given as a mapping becomes its dataclass."""
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if "nested" in f.metadata:
+            value = _instance(f, value, prefix)
+        elif "check" in f.metadata:
+            value = f.metadata["check"](prefix + f.name, value)
+        object.__setattr__(obj, f.name, value)
+
+
+def _instance(f, value, prefix):
+    cls = f.metadata["nested"]
+    if isinstance(value, cls):
+        return value
+    if not isinstance(value, Mapping):
+        raise InputError(f"{prefix}{f.name} must be {f.metadata['check'].allowed()}, got {value!r}")
+    inner = prefix if f.metadata["flat"] else f"{prefix}{f.name}."
+    return dataclasses.replace(f.default_factory(), **check_mapping(cls, value, inner))
+
+
+def group(cls, values):
+    """{option name: value} (every option of `cls` by its own name, nested ones too, as the
+    command line and the node parameters name them) as keyword arguments of `cls`: a nested
+    field's options as a mapping under its name. Names `cls` does not know are left out."""
+    out = {}
+    for f in dataclasses.fields(cls):
+        if "nested" in f.metadata:
+            inner = group(f.metadata["nested"], values)
+            if inner:
+                out[f.name] = inner
+        elif f.name in values:
+            out[f.name] = values[f.name]
+    return out
+
+
+def as_dict(obj):
+    """A dataclass instance as the mapping a YAML preset holds: flat nested options inline."""
+    out = {}
+    for f in dataclasses.fields(obj):
+        value = getattr(obj, f.name)
+        if f.metadata.get("flat"):
+            out.update(as_dict(value))
+        else:
+            out[f.name] = as_dict(value) if "nested" in f.metadata else value
+    return out
 
 
 def check_mapping(cls, values, prefix=""):
-    """`values` checked as options of dataclass `cls`: unknown keys are named, with a guess."""
+    """`values` checked as options of dataclass `cls`: unknown keys are named, with a guess. The
+    options of a flat nested field come back as a mapping under its name."""
     if not isinstance(values, Mapping):
         raise InputError(f"{prefix.rstrip('.') or 'the options'} must be a mapping of "
                          f"{cls.__name__} options, got {values!r}")
@@ -173,7 +242,10 @@ def check_mapping(cls, values, prefix=""):
             raise InputError(f"unknown option {prefix}{key}" + (
                 f" (did you mean {prefix}{guess[0]}?)" if guess else
                 f" (known: {', '.join(known)})"))
-    return {key: known[key](prefix + key, value) for key, value in values.items()}
+    checked = {key: known[key](prefix + key, value) for key, value in values.items()}
+    own = {f.name: f for f in dataclasses.fields(cls)}
+    return {**{k: v for k, v in checked.items() if k in own},
+            **{k: v for k, v in group(cls, checked).items() if own[k].metadata.get("flat")}}
 
 
 def arg(check):
@@ -183,14 +255,11 @@ def arg(check):
             value = check.kind(text) if check.kind in (int, float) else text
             return check("", value)
         except ValueError:  # int("x"), float("x") and InputError alike
-            raise argparse.ArgumentTypeError(f"must be {check.allowed()}, got {text!r}") from None
+            words = dataclasses.replace(check, optional=False).allowed()  # no null on a command line
+            raise argparse.ArgumentTypeError(f"must be {words}, got {text!r}") from None
     parse.__name__ = check.kind.__name__  # argparse names the type in some messages
+    parse.check = check  # for the generated reference (options.py)
     return parse
-
-
-def arg_of(cls, name):
-    """The argparse type of option `name` of dataclass `cls`."""
-    return arg(checks(cls)[name])
 
 
 class _Loader(yaml.SafeLoader):

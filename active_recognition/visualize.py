@@ -15,20 +15,9 @@
 """Pictures for people: depth-image grids (PNG) written atomically."""
 from __future__ import annotations
 
-import os
-import tempfile
-from pathlib import Path
-
 import numpy as np
 
-
-def atomic_path(path):
-    """A temp file beside `path`; rename it onto `path` once written (see `replace`)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix)
-    os.close(fd)
-    return Path(tmp)
+from .files import atomic_path
 
 
 def plt():
@@ -40,14 +29,9 @@ def plt():
 
 
 def save_figure(fig, path, **kwargs):
-    """Save a matplotlib figure as PNG with write-then-rename."""
-    tmp = atomic_path(path)
-    try:
+    """Save a matplotlib figure as PNG, atomically."""
+    with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png", **kwargs)
-        os.chmod(tmp, 0o644)  # mkstemp makes 0600; a figure is for everyone to read
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def depth_grid(images, path, titles=None, columns=None, row_labels=None):

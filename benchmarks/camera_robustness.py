@@ -40,9 +40,10 @@ from results_page import write_results_page
 from tqdm import tqdm
 
 from active_recognition import checkpoint
-from active_recognition.checkpoint import shipped
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
+from active_recognition.evaluate import EvalConfig
+from active_recognition.options import add_flags
 from active_recognition.reach import ViewLimits
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.report import write_json
@@ -78,8 +79,6 @@ ROWS = {
 SIZES = (0.3, 3.0)
 # rows that change the object, not the camera: a random heading, or the held-out styles
 OBJECTS = {"yaw unknown": {"yaw": True}, "cross-style (held-out styles)": {"split": "cross"}}
-FRAME = ("object frame 5 % off centre", "object frame 15 % off centre",
-         "object_size 15 % too large", "object_size 15 % too small")
 
 
 def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=None):
@@ -127,15 +126,13 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--dataset", default="procedural", choices=("procedural", "modelnet"),
-                    help="whose test objects (modelnet: with --root; the cross-style row is "
-                         "procedural's own)")
-    ap.add_argument("--root", default=None, help="dataset root folder (modelnet)")
-    ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT, help="test objects (seeded draw)")
-    ap.add_argument("--seed", type=int, default=0)
+    add_flags(ap, EvalConfig, ["dataset", "root", "objects", "seed"], dataset={
+        "choices": ("procedural", "modelnet"),
+        "help": "whose test objects (modelnet: with --root; the cross-style row is procedural's own)"},
+        objects={"default": OBJECTS_DEFAULT, "help": "test objects (seeded draw)"})
     ap.add_argument("--rows", nargs="*", default=None, help="rows to run (default: all)")
     ap.add_argument("--workers", type=int, default=2, help="processes (one row each at a time), >= 1")
-    ap.add_argument("--checkpoint", default=None, help="model file (default: the shipped one)")
+    add_flags(ap, EvalConfig, ["checkpoint"])
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/camera_robustness.json, for modelnet "
                     "docs/results/modelnet10/camera_robustness.json; a partial run must give it)")
@@ -157,8 +154,7 @@ def run(ap, args):
     partial = [flag for flag, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
                                      ("--rows", args.rows != rows_here), ("--checkpoint", args.checkpoint)) if on]
     args.out = output(ap, args.out, str(results_dir(args.dataset) / "camera_robustness.json"), partial)
-    if args.checkpoint is None and args.dataset != "procedural":
-        args.checkpoint = str(shipped(args.dataset))
+    args.checkpoint = str(checkpoint.model_path(args.checkpoint, args.dataset))
     checkpoint.load_model(args.checkpoint)  # a bad model file: refused here, not in every worker
     n_test = len(open_dataset(args.dataset, args.root, "test", cache_dir=default_cache_dir()))
     if not 1 <= args.objects <= n_test:
@@ -179,7 +175,7 @@ def run(ap, args):
     result = {"clean": rows.get("clean", {}).get("acc_3"),
               "realsense": rows.get("realsense", {}).get("acc_3"), "rows": rows,
               "objects": len(objects), "dataset": args.dataset,
-              "checkpoint": str(args.checkpoint or shipped(args.dataset))}
+              "checkpoint": args.checkpoint}
     if args.out:
         Path(args.out).parent.mkdir(parents=True, exist_ok=True)
         write_json(Path(args.out), result)

@@ -12,15 +12,20 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Helpers shared by the benchmarks: medians of repeated timings, the last-line JSON, where each
-dataset's results go, and one line, not a traceback, for bad input."""
+"""Helpers shared by the benchmarks (and by the tests that run ROS loops the same way): medians
+of repeated timings, the last-line JSON, where each dataset's results go, one line, not a
+traceback, for bad input, the recognizer's parameter for a shipped model, and stopping node
+processes."""
 import json
+import subprocess
 import time
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
+from active_recognition.checkpoint import shipped
 from active_recognition.validation import InputError
 
 RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
@@ -72,3 +77,26 @@ def median_ms(fn, repeat=30, warmup=3):
 def emit(result):
     """Print the figures as the last line, JSON."""
     print(json.dumps({k: (round(v, 4) if isinstance(v, float) else v) for k, v in result.items()}))
+
+
+def shipped_checkpoint(dataset="procedural"):
+    """The recognizer's `checkpoint` parameter for a dataset's shipped model (its default is the
+    ModelNet10 model: loops that show procedural or twins objects pass this)."""
+    from rclpy.parameter import Parameter
+
+    return Parameter("checkpoint", value=str(shipped(dataset)))
+
+
+def stop_processes(procs, grace=10.0):
+    """SIGTERM each node process (subprocess.Popen), wait up to `grace` seconds, then SIGKILL what
+    is left. Once in many CI runs a camera process has outlived SIGTERM by 10 s inside FastDDS's
+    teardown (its work long done): it is killed and reported, not left to fail the caller."""
+    for p in procs:
+        p.terminate()
+    for p in procs:
+        try:
+            p.wait(timeout=grace)
+        except subprocess.TimeoutExpired:
+            warnings.warn(f"{p.args[:3]} outlived SIGTERM by {grace:g} s: killed")
+            p.kill()
+            p.wait(timeout=grace)

@@ -36,10 +36,11 @@ import torch
 from common import emit, one_line_errors
 
 from active_recognition import geometry
-from active_recognition.datasets import GENERATED, NAMES, default_cache_dir, open_dataset, open_splits
+from active_recognition.datasets import GENERATED, default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig
-from active_recognition.evaluate import DECIMALS
+from active_recognition.evaluate import DECIMALS, EvalConfig
+from active_recognition.options import add_flags
 from active_recognition.policies import nearest_candidates
 from active_recognition.report import write_json
 from active_recognition.shared_classifier import train_shared
@@ -63,11 +64,9 @@ def random_views_accuracy(net, shapes, idx, rng):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--dataset", default="procedural", choices=NAMES)
-    ap.add_argument("--root", default=None, help="dataset root (file datasets)")
+    add_flags(ap, EvalConfig, ["dataset", "root"])
     ap.add_argument("--epochs", type=int, default=15, help="classifier training epochs (as the evaluation's)")
-    ap.add_argument("--objects", type=int, default=0, help="test objects (0: the whole split)")
-    ap.add_argument("--seed", type=int, default=0)
+    add_flags(ap, EvalConfig, ["objects", "seed"])
     ap.add_argument("--out", default=None, help="also write the figures to this JSON file")
     args = ap.parse_args()
     with one_line_errors(ap):

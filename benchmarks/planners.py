@@ -32,27 +32,23 @@ from common import FOLDER, RESULTS, committed, emit, one_line_errors, output, re
 from results_page import write_results_page
 
 from active_recognition import checkpoint
-from active_recognition.checkpoint import SHIPPED
+from active_recognition.checkpoint import MODELS, SHIPPED_FOR
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.evaluate import EvalConfig, evaluate, halves, summary
+from active_recognition.options import add_flags
 from active_recognition.policies import FIXED
+from active_recognition.reach import ViewLimits
 from active_recognition.report import PAPER_MODELNET10, write_json
 from active_recognition.run_metrics import read_metrics, training_time
 
 ROOT = Path(__file__).resolve().parents[1]
-MODELS = SHIPPED.parent
-# the planners each dataset's shipped models serve, and the model file of each
+# the planners each dataset's shipped models serve, and the model file of each: the shipped
+# model (checkpoint.SHIPPED_FOR), its REINFORCE twin beside it
 EVERY = ("learned", "random", "straight", "reinforce", "fixed", "imitation", "oracle")
 PLANNERS = {"procedural": EVERY[:-1] + ("fixed+imitation", "oracle"),
             "twins": EVERY, "modelnet": EVERY[:-1] + ("fixed+imitation", "oracle")}
-CHECKPOINTS = {"procedural": {"learned": "procedural.pt", "reinforce": "procedural_reinforce.pt",
-                              "imitation": "procedural.pt"},
-               "twins": {"learned": "twins.pt", "reinforce": "twins_reinforce.pt",
-                         "imitation": "twins.pt"},
-               "modelnet": {"learned": "modelnet10.pt", "reinforce": "modelnet10_reinforce.pt",
-                            "imitation": "modelnet10.pt"}}
-# the planner the recognizer and the demo use with each shipped model (its best non-privileged)
-DEFAULT_CHECKPOINT = {"procedural": "procedural.pt", "twins": "twins.pt", "modelnet": "modelnet10.pt"}
+CHECKPOINTS = {d: {"learned": f, "reinforce": f.replace(".pt", "_reinforce.pt"), "imitation": f}
+               for d, f in SHIPPED_FOR.items()}
 
 
 def ship(path, s):
@@ -86,32 +82,25 @@ def choose_default(cfg: EvalConfig, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
-    ap.add_argument("--dataset", default="procedural", choices=sorted(PLANNERS))
-    ap.add_argument("--root", default=None, help="dataset root folder (modelnet: ~/data/ModelNet10)")
-    ap.add_argument("--checkpoint", default=None,
-                    help="the model that scores random, straight, fixed and oracle views "
-                         "(default: the dataset's shipped model)")
+    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint"], dataset={"choices": sorted(PLANNERS)},
+              checkpoint={"help": "the model that scores random, straight, fixed and oracle views "
+                                  "(default: the dataset's shipped model)"})
     ap.add_argument("--planner-checkpoint", action="append", default=[], metavar="PLANNER=FILE",
                     help="a planner's own model (default: the shipped ones)")
     ap.add_argument("--learned-metrics", default=None, help="metrics.csv of the learned run")
     ap.add_argument("--reinforce-metrics", default=None, help="metrics.csv of the reinforce run")
-    ap.add_argument("--split", default="test", choices=("test", "cross"),
-                    help="test, or cross: the held-out styles (a proxy for real objects)")
-    ap.add_argument("--objects", type=int, default=0,
-                    help="0: the whole test split; else a seeded sample of this many test objects, and as "
-                         "many validation objects for the default (a partial run: give --out)")
-    ap.add_argument("--starts", type=int, default=3, help="seeded initial views per object (>= 3)")
+    add_flags(ap, EvalConfig, ["split", "objects", "starts"], split={
+        "choices": ("test", "cross"), "help": "test, or cross: the held-out styles (a proxy for real objects)"},
+        objects={"help": "0: the whole test split; else a seeded sample of this many test objects, and as "
+                         "many validation objects for the default (a partial run: give --out)"},
+        starts={"default": 3})
     ap.add_argument("--out", default=None, help="report folder (default docs/results[/DATASET])")
-    ap.add_argument("--min-elevation", type=float, default=-90.0,
-                    help="degrees: views from no lower (-90: the whole sphere, the paper's; 0: a "
-                         "robot's, nothing from below the object's support)")
-    ap.add_argument("--max-elevation", type=float, default=90.0, help="degrees: views from no higher")
-    ap.add_argument("--yaw", type=float, default=0.0,
-                    help="degrees: every object turned by its own seeded yaw within +-this (a "
-                         "detector's rough heading); results go to docs/results/<dataset>-yaw<N>")
-    ap.add_argument("--no-size", action="store_true",
-                    help="answer from the images alone, though the model carries a size prior "
-                         "(default out: the dataset's folder/images_only)")
+    yaw = ("degrees: every object turned by its own seeded yaw within +-this (a detector's rough heading); "
+           "results go to docs/results/<dataset>-yaw<N>")
+    size = "answer from the images alone, though the model carries a size prior (default out: the dataset's " \
+           "folder/images_only)"
+    add_flags(ap, EvalConfig, ["min_elevation", "max_elevation", "yaw", "size"], yaw={"help": yaw},
+              size={"help": size})
     ap.add_argument("--ship", action="store_true",
                     help="write the measured best planner (and the fixed path) into the "
                          "dataset's shipped model, for the recognizer's planner 'auto'")
@@ -123,7 +112,7 @@ def main():
 def run(ap, args):
     if args.ship and args.split != "test":
         ap.error("--ship records the default planner for the test split's models; leave out --split")
-    if args.ship and args.no_size:
+    if args.ship and not args.size:
         ap.error("--ship records the default planner of the model as the node runs it; leave out --no-size")
     if args.ship and args.yaw:
         ap.error("--ship records the default planner chosen at the canonical heading; leave out --yaw")
@@ -140,14 +129,14 @@ def run(ap, args):
     if args.ship and partial:
         ap.error(f"--ship records what the whole benchmark chose; leave out {', '.join(partial)}")
     out = Path(output(ap, args.out, cross if args.split == "cross" else turned if args.yaw else
-                      runs / "images_only" if args.no_size else runs, partial))
+                      runs if args.size else runs / "images_only", partial))
     own = {name: str(MODELS / f) for name, f in CHECKPOINTS[args.dataset].items()}
     for item in args.planner_checkpoint:
         name, sep, path = item.partition("=")
         if not sep:
             ap.error(f"--planner-checkpoint {item!r}: expected PLANNER=FILE")
         own[name] = path
-    model = args.checkpoint or str(MODELS / DEFAULT_CHECKPOINT[args.dataset])
+    model = str(checkpoint.model_path(args.checkpoint, args.dataset))
     for path in {model, *own.values()}:
         if not Path(path).is_file():
             ap.error(f"{path}: no such model (train it with its config/train_*.yaml, or pass "
@@ -163,8 +152,8 @@ def run(ap, args):
         ap.error(f"--objects must be 0 (all) .. {held}, the {args.split} split's objects")
     cfg = EvalConfig(checkpoint=model, planner_checkpoints=own, planners=PLANNERS[args.dataset],
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
-                     starts=args.starts, out=str(out), min_elevation=args.min_elevation,
-                     max_elevation=args.max_elevation, yaw=args.yaw, size=not args.no_size)
+                     starts=args.starts, out=str(out), yaw=args.yaw, size=args.size,
+                     limits=ViewLimits(args.min_elevation, args.max_elevation))
     if args.split == "test":  # on the validation split, before test is read
         chosen, val_acc = choose_default(cfg, out)
     else:  # the held-out styles: the default the test run chose, as the shipped model records it
@@ -179,7 +168,7 @@ def run(ap, args):
         s["paper"] = {k: list(v) for k, v in PAPER_MODELNET10.items()}
     write_json(out / "summary.json", s)
     if args.ship:
-        ship(MODELS / DEFAULT_CHECKPOINT[args.dataset], s)
+        ship(checkpoint.shipped(args.dataset), s)
     if committed(out):  # a run elsewhere leaves the committed page as it is
         write_results_page(ROOT / "docs/RESULTS.md", RESULTS)
     for name in s["acc"]:

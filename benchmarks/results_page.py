@@ -27,10 +27,10 @@ output is missing, which leaves the section out.
 import argparse
 import csv
 import json
-import os
 import re
 from pathlib import Path
 
+from active_recognition.files import write_text
 from active_recognition.report import PAPER, PAPER_MODELNET10, PAPER_TRAINING_HOURS, table
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -67,10 +67,7 @@ def page_text(results):
 
 def write_results_page(path, results):
     """docs/RESULTS.md from the summaries under `results`, beside the paper's figures."""
-    text = page_text(results)
-    tmp = Path(path).with_name(f".{Path(path).name}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    write_text(path, page_text(results))
 
 
 def summary(results):

@@ -32,8 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from common import emit
+from common import emit, shipped_checkpoint, stop_processes
 
+from active_recognition.command_options import DemoOptions
+from active_recognition.options import add_flags
 from active_recognition.report import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -85,8 +87,7 @@ def run_camera(name, objects, seed, timeout):
     from rclpy.parameter_client import AsyncParameterClient
 
     from active_recognition.datasets import default_cache_dir, open_dataset
-    from active_recognition.nodes.demo import DemoClient, recognize, ros_session, shipped_checkpoint, spin_until
-    from active_recognition.nodes import stop_processes
+    from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
     from active_recognition.nodes.recognizer import Recognizer
 
     test = open_dataset("procedural", split="test", cache_dir=default_cache_dir())
@@ -124,7 +125,7 @@ def run_camera(name, objects, seed, timeout):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--objects", type=int, default=40, help="procedural test objects (seeded draw)")
-    ap.add_argument("--seed", type=int, default=0)
+    add_flags(ap, DemoOptions, ["seed"])
     ap.add_argument("--cameras", nargs="*", default=list(CAMERAS), choices=list(CAMERAS))
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds an episode may take")
     ap.add_argument("--out", default=str(ROOT / "docs/results/robot_loop.json"),

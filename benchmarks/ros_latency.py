@@ -28,7 +28,7 @@ import time
 from dataclasses import fields
 
 import numpy as np
-from common import RESULTS, emit
+from common import RESULTS, emit, shipped_checkpoint
 from geometry_msgs.msg import PoseStamped
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -37,7 +37,6 @@ from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
-from active_recognition.nodes.demo import shipped_checkpoint
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
 from active_recognition.report import write_json

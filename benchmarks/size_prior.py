@@ -36,6 +36,7 @@ from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_splits
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import DECIMALS, EvalConfig, checkpoint_split, rollout, sample_episodes
+from active_recognition.options import add_flags
 from active_recognition.report import write_json
 from active_recognition.size_prior import fit
 
@@ -60,10 +61,9 @@ def record_path(model):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--root", required=True, help="ModelNet10 root folder")
-    ap.add_argument("--checkpoint", default=None, help="model file (default: modelnet10.pt)")
-    ap.add_argument("--planners", default="random,straight,imitation")
-    ap.add_argument("--starts", type=int, default=3, help="initial views per object")
+    add_flags(ap, EvalConfig, ["root", "checkpoint", "planners", "starts"], root={
+        "required": True, "help": "ModelNet10 root folder"}, checkpoint={"help": "model file (default: modelnet10.pt)"},
+        planners={"default": ("random", "straight", "imitation")}, starts={"default": 3})
     ap.add_argument("--write", action="store_true", help="store the chosen prior in the checkpoint")
     ap.add_argument("--out", default=None, help="JSON (default: docs/results/modelnet10/size_prior[_SUFFIX].json for "
                                                 "the shipped modelnet10[_SUFFIX].pt, else "
@@ -74,14 +74,14 @@ def main():
 
 
 def run(args):
-    path = Path(args.checkpoint or checkpoint.shipped("modelnet"))
+    path = checkpoint.model_path(args.checkpoint, "modelnet")
     cfg = EvalConfig(checkpoint=str(path), dataset="modelnet", root=args.root, split="val",
                      starts=args.starts, steps=max(VIEWS), size=False, shared=False)
     model, classes, val, ckpt = checkpoint_split(str(path), cfg)
     train = Shapes(open_splits("modelnet", args.root, ("train",), default_cache_dir())["train"], val.camera)
     sizes = train.sizes(range(len(train)))
-    objects, starts = sample_episodes(0, len(val), args.starts, 0, len(cfg.limits().initial_views(50)))
-    runs = {name: rollout(name, model, val, objects, starts, cfg) for name in args.planners.split(",")}
+    objects, starts = sample_episodes(0, len(val), args.starts, 0, len(cfg.limits.initial_views(50)))
+    runs = {name: rollout(name, model, val, objects, starts, cfg) for name in args.planners}
     val_sizes = torch.from_numpy(val.sizes(objects))
     grid = {}
     for weight, outlier in [(0.0, OUTLIERS[0]), *itertools.product(WEIGHTS, OUTLIERS)]:

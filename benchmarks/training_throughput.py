@@ -25,9 +25,11 @@ from common import emit
 from active_recognition import depth_layer, geometry
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.depth_layer import CameraConfig
+from active_recognition.depth_layer import CameraConfig, GRADIENT_RULES
 from active_recognition.losses import JointLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.options import add_flags
+from active_recognition.train_config import TrainConfig
 
 CLOCK = {"render": 0.0}
 
@@ -50,9 +52,9 @@ def sync(device):
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--batches", type=int, default=12)
-    ap.add_argument("--batch-size", type=int, default=32)
-    ap.add_argument("--rule", default="surface", choices=("paper", "surface"))
-    ap.add_argument("--device", default="cpu", help="where the network runs (rendering is on the CPU)")
+    add_flags(ap, TrainConfig, ["batch_size"])
+    ap.add_argument("--rule", default="surface", choices=GRADIENT_RULES)
+    add_flags(ap, TrainConfig, ["device"], device={"help": "where the network runs (rendering is on the CPU)"})
     args = ap.parse_args()
     # time every render and every depth-layer backward (the Jacobian), wherever they are called
     depth_layer.trace_all = timed(depth_layer.trace_all)

@@ -25,25 +25,17 @@ from pathlib import Path
 from common import emit, one_line_errors, results_dir
 
 from active_recognition.evaluate import EvalConfig, evaluate, summary
-from active_recognition.model import READOUTS
+from active_recognition.options import add_flags
+from active_recognition.reach import ViewLimits
 from active_recognition.report import write_json
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("models", nargs="+", metavar="NAME=FILE", help="a run's name and its model file")
-    ap.add_argument("--dataset", default="modelnet")
-    ap.add_argument("--root", default=None, help="dataset root folder (modelnet)")
-    ap.add_argument("--objects", type=int, default=352, help="validation objects (seeded draw)")
-    ap.add_argument("--starts", type=int, default=2, help="initial views per object")
-    ap.add_argument("--planners", default="learned,random,straight,imitation")
-    ap.add_argument("--readout", choices=READOUTS, default=None,
-                    help="every model's answer after t views (default: each model's own)")
-    ap.add_argument("--min-elevation", type=float, default=-90.0,
-                    help="degrees: views from no lower (0: a robot's, as procedural.pt and twins.pt "
-                         "are measured; -90: the whole sphere)")
-    ap.add_argument("--yaw", type=float, default=0.0,
-                    help="degrees: every object turned by its own seeded yaw within +-this")
+    add_flags(ap, EvalConfig, ["dataset", "root", "objects", "starts", "planners", "readout", "min_elevation",
+                               "yaw"], dataset={"default": "modelnet"}, objects={"default": 352},
+              starts={"default": 2}, planners={"default": ("learned", "random", "straight", "imitation")})
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
@@ -64,10 +56,10 @@ def main():
                 ap.error(f"{item!r}: expected NAME=FILE")
             with tempfile.TemporaryDirectory() as tmp:
                 s = summary(evaluate(EvalConfig(
-                    checkpoint=path, planners=tuple(args.planners.split(",")), dataset=args.dataset,
+                    checkpoint=path, planners=args.planners, dataset=args.dataset,
                     root=args.root, split="val", objects=args.objects, starts=args.starts, out=tmp,
                     shared=False, trajectory_figures=0, readout=args.readout,
-                    min_elevation=args.min_elevation, yaw=args.yaw)))
+                    limits=ViewLimits(args.min_elevation), yaw=args.yaw)))
             runs[name] = {"acc": s["acc"], "stderr_3": s["stderr_3"], "readout": args.readout or "own"}
             print(name, {k: v["3"] for k, v in s["acc"].items()})
         write_json(out, record)

@@ -23,17 +23,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import import_ros
+from conftest import import_ros, load_benchmark
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
-from active_recognition.checkpoint import SHIPPED  # noqa: E402
-from active_recognition.nodes import stop_processes  # noqa: E402
+from active_recognition.checkpoint import shipped  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 
+stop_processes = load_benchmark("common").stop_processes
 PROFILE = Path(__file__).resolve().parents[1] / "config" / "fastdds_large_frames.xml"
 VGA = {"width": 640, "height": 480, "fx": 385.0, "fy": 385.0, "encoding": "16UC1",
        "min_range": 0.2, "max_range": 10.0}
@@ -73,7 +73,7 @@ def episodes(ns, count, **params):
     """`count` episodes against camera `ns` -> (results, next_view requests, recognizer)."""
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, namespace=ns, parameter_overrides=[
-            Parameter(k, value=v) for k, v in {"checkpoint": str(SHIPPED), "seed": 3,
+            Parameter(k, value=v) for k, v in {"checkpoint": str(shipped("procedural")), "seed": 3,
                                                "view_timeout": 1.5, "max_views": 3,
                                                **params}.items()])
         client, views = DemoClient(context=ctx, namespace=ns), []

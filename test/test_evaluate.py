@@ -219,11 +219,11 @@ def test_results_page_names_a_template_section_without_its_value(tmp_path, monke
 
 
 def test_size_prior_records_of_shipped_models_go_where_the_results_page_reads_them(tmp_path):
-    from active_recognition.checkpoint import SHIPPED
+    from active_recognition.checkpoint import MODELS, shipped
     record_path = load_benchmark("size_prior").record_path
-    folder = SHIPPED.resolve().parents[2] / "docs" / "results" / "modelnet10"
-    assert record_path(SHIPPED.with_name("modelnet10.pt")) == folder / "size_prior.json"
-    assert record_path(SHIPPED.with_name("modelnet10_reinforce.pt")) == folder / "size_prior_reinforce.json"
+    folder = MODELS.resolve().parents[1] / "docs" / "results" / "modelnet10"
+    assert record_path(shipped("modelnet")) == folder / "size_prior.json"
+    assert record_path(MODELS / "modelnet10_reinforce.pt") == folder / "size_prior_reinforce.json"
     assert record_path(tmp_path / "run" / "final.pt") == tmp_path / "run" / "final_size_prior.json"
 
 

@@ -22,7 +22,7 @@ from contextlib import contextmanager
 
 import pytest
 
-from conftest import import_ros, need_vision_msgs
+from conftest import import_ros, load_benchmark, need_vision_msgs
 
 rclpy = import_ros("rclpy")
 need_vision_msgs()
@@ -37,10 +37,11 @@ from vision_msgs.msg import Classification, LabelInfo  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition.checkpoint import shipped  # noqa: E402
-from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 from active_recognition.recognizer import least_top_score  # noqa: E402
+
+stop_processes = load_benchmark("common").stop_processes  # SIGTERM, then SIGKILL
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
 CLASSES = ["bathtub", "bed", "chair", "desk", "dresser", "monitor", "night_stand", "sofa", "table",
@@ -100,6 +101,7 @@ def header_key(header):
     return header.stamp.sec, header.stamp.nanosec, header.frame_id
 
 
+@pytest.mark.slow
 def test_a_classification_per_classified_image_with_its_header_and_a_latched_label_info():
     with loop("vision", max_views=3, entropy_threshold=0.0) as (executor, client, camera, got):
         assert spin_until(executor, client.reset.service_is_ready, 60), "no recognizer process"

@@ -127,6 +127,41 @@ def test_episode_stops_on_the_step_limit_and_records_everything():
         assert 0 <= v[0, 0] <= math.pi and -math.pi <= v[0, 1] < math.pi
 
 
+def test_an_episodes_state_is_read_through_its_api_and_changed_only_by_its_methods():
+    ep = Episode(confident_model(0.5), EpisodeConfig(max_views=4, entropy_threshold=0.1))
+    with pytest.raises(RuntimeError, match="reset"):
+        ep.step(torch.full((64, 64), 200.0))  # not started
+    ep.reset([[1.0, 0.5], [2.0, -1.0]])
+    ep.step(torch.full((2, 64, 64), 200.0))
+    for name in ("view", "views", "probs", "done", "stopped_at", "size", "hidden"):
+        with pytest.raises(AttributeError):
+            setattr(ep, name, None)
+    ep.done[0] = True  # a copy: the episode goes on
+    assert not ep.done.any() and ep.stopped_at.tolist() == [-1, -1]
+    twin = ep.fork()
+    twin.step(torch.full((2, 64, 64), 200.0))
+    twin.stop()
+    assert twin.steps == 2 and twin.stopped_at.tolist() == [2, 2] and bool(twin.done.all())
+    assert ep.steps == 1 and len(ep.views) == 2 and not ep.done.any()  # left as it was
+    with pytest.raises(InputError, match="3 sizes for 2 objects"):
+        ep.reset([[1.0, 0.5], [2.0, -1.0]], size=[1.0, 2.0, 3.0])
+    with pytest.raises(InputError, match="has no next_view"):
+        Episode(ep.model, planner=object())
+
+
+def test_every_planner_is_a_planner():
+    from active_recognition.episode import Planner
+    from active_recognition.losses import ImitationLoss
+    from active_recognition.policies import make_planner, PLANNERS
+    model = RecurrentAttention(ModelConfig(num_classes=3, candidates=8, view_input=True))
+    box = trimesh.creation.box(extents=(0.6, 0.4, 0.3))
+    cams = [DepthCamera(box.vertices, box.faces)]
+    for name in PLANNERS:
+        planner = make_planner(name, cams, model=model, fixed_path=[[1.0, 0.0]], labels=[0])
+        assert planner is None if name in ("learned", "reinforce") else isinstance(planner, Planner)
+    assert isinstance(ImitationLoss(model, 3), Planner)
+
+
 def test_the_mean_readout_answers_the_mean_of_every_steps_own_probabilities():
     """readout mean: after t views the episode answers, and stops on, the mean of the t steps'
     own softmax; readout last (the paper) answers the last step's. An independent run of the

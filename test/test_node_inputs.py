@@ -21,7 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import import_ros
+from conftest import import_ros, load_benchmark
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -34,12 +34,11 @@ from std_srvs.srv import Trigger  # noqa: E402
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
-from active_recognition.nodes.demo import shipped_checkpoint  # noqa: E402
 from active_recognition.nodes.recognizer import PARAMS, Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
 
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
-PROCEDURAL = shipped_checkpoint()
+PROCEDURAL = load_benchmark("common").shipped_checkpoint()
 
 
 def info(width, height, fx, fy, cx, cy, **k):
@@ -129,11 +128,12 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
                              ("min_elevation", -90.0, "read-only"),
                              ("image_qos", "reliable", "read-only")]:
         result = recognizer.set_parameters([Parameter(name, value=value)])[0]
-        assert not result.successful and why in result.reason, (name, result.reason)
+        # outside its descriptor's range rclpy refuses it first, in its words; the log has ours
+        ours = "out of range" if PARAMS[name].bounds and why != "read-only" else why
+        assert not result.successful and ours in result.reason, (name, result.reason)
+        if why != "read-only":  # each in the log: one refusal hides no other
+            assert why in recognizer.refuse.latest[f"parameter {name}"], name
     assert recognizer.sensing.object_size == 1.0 and recognizer.view_timeout == 0.5
-    logged = {f"parameter {n}" for n in ("object_size", "standoff", "view_timeout", "max_retries",
-                                         "max_clock_offset")}
-    assert logged <= set(recognizer.refuse.last)  # each in the log: one refusal hides no other
     result = recognize(executor, client)  # the simulated camera's good inputs from here on
     assert result is not None and result["status"] == "recognized", result
     assert result["label"] == "bathtub"  # procedural/test[0]
@@ -181,8 +181,8 @@ def test_a_silent_camera_ends_the_episode_with_no_image():
 
 
 def test_with_the_defaults_a_silent_camera_ends_an_episode_within_15_s():
-    timeout, retries = PARAMS["view_timeout"][0], PARAMS["max_retries"][0]
-    assert timeout * (retries + 1) * PARAMS["max_unreachable_views"][0] <= 15.0
+    timeout, retries = PARAMS["view_timeout"].default, PARAMS["max_retries"].default
+    assert timeout * (retries + 1) * PARAMS["max_unreachable_views"].default <= 15.0
     assert timeout >= 2.0  # and a camera that is merely slow is not given up at once
 
 

@@ -294,8 +294,6 @@ def test_the_oracle_takes_the_unvisited_candidate_after_which_the_answer_is_righ
     """For each object, a copy of the episode steps through every candidate's own render: the
     oracle's next view is the unvisited one after which the episode's answer (its readout) puts
     the true class furthest above the strongest other."""
-    import copy
-
     model = small_model(candidates=8)
     model.config.readout = readout
     with torch.no_grad():  # sure answers that differ from view to view
@@ -312,10 +310,7 @@ def test_the_oracle_takes_the_unvisited_candidate_after_which_the_answer_is_righ
         seen = set(nearest_candidates(views[:2, b], cands))
         margins = []
         for k, view in enumerate(cands):
-            trial = copy.copy(ep)  # the same state, its own lists; FC_loc plans its next view
-            for name in ("views", "probs", "entropies", "info_gain", "requested"):
-                setattr(trial, name, list(getattr(ep, name)))
-            trial.planner = None
+            trial = ep.fork(planner=None)  # the same state, its own records; FC_loc plans
             with torch.no_grad():
                 p = trial.step(torch.from_numpy(np.stack([c.render(view[None])[0] for c in cams])),
                                torch.as_tensor(np.repeat(view[None], 3, 0))).probs[b]

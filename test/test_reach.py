@@ -218,7 +218,7 @@ def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monk
 
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "cache"))
     cfg = EvalConfig(planners=("learned", "random", "straight", "oracle"), objects=6, steps=4,
-                     shared=False, min_elevation=0.0, out=str(tmp_path / "out"), oracle_candidates=20,
+                     shared=False, limits={"min_elevation": 0.0}, out=str(tmp_path / "out"), oracle_candidates=20,
                      trajectory_figures=0, starts=2)
     results = evaluate(cfg, progress=False)
     top = ViewLimits(0.0, 90.0)
@@ -227,7 +227,7 @@ def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monk
         assert set(ro.starts) <= set(range(len(top.initial_views(50))))
         np.testing.assert_allclose(ro.views[:, 0], top.initial_views(50)[ro.starts])
     with pytest.raises(InputError, match=r"min_elevation \(10\) must not exceed max_elevation \(5\)"):
-        EvalConfig(min_elevation=10, max_elevation=5)
+        EvalConfig(limits={"min_elevation": 10, "max_elevation": 5})
 
 
 def test_training_keeps_to_the_limits_and_imitation_never_targets_a_view_outside():
@@ -235,7 +235,7 @@ def test_training_keeps_to_the_limits_and_imitation_never_targets_a_view_outside
     from active_recognition.train import TrainConfig
 
     with pytest.raises(InputError, match="must not exceed"):
-        TrainConfig(min_elevation=30, max_elevation=0)
+        TrainConfig(limits={"min_elevation": 30, "max_elevation": 0})
     top = ViewLimits(0.0, 90.0)
     torch.manual_seed(0)
     model = small_model(candidates=20)

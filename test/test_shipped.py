@@ -92,6 +92,15 @@ def check_readme_accuracy(marker, probs, labels):
     assert abs(acc - readme(marker)) <= 0.005 + 1e-9
 
 
+def test_no_model_file_means_the_shipped_model_of_the_objects_dataset():
+    assert checkpoint.model_path(None) == checkpoint.model_path("") == checkpoint.shipped("procedural")
+    assert checkpoint.model_path("", "modelnet").name == "modelnet10.pt"  # the node's real objects
+    assert checkpoint.model_path("runs/x/final.pt", "modelnet") == Path("runs/x/final.pt")
+    assert all((checkpoint.MODELS / f).is_file() for f in checkpoint.SHIPPED_FOR.values())
+    with pytest.raises(checkpoint.InputError, match="none is shipped for the folder dataset"):
+        checkpoint.load_model(None, dataset="folder")
+
+
 def test_shipped_checkpoint_matches_the_readme_figure():
     """procedural.pt with the planner 'auto' stands for (the checkpoint's default_planner, and
     its fixed path) scores the README's figure after 3 views on 100 seeded test objects."""
@@ -164,7 +173,7 @@ def test_the_oracle_picks_the_unvisited_candidate_right_by_the_widest_margin_by_
                                  torch.as_tensor(oracle.candidates, dtype=torch.float32))
             p = logits.softmax(-1)
             if model.config.readout != "last":
-                p = (ep.probs_sum[i] + p) / (ep.steps + 1)
+                p = (ep.probs[-1][i] * ep.steps + p) / (ep.steps + 1)  # no size prior: the mean
             p = p.numpy()
             margin = p[:, labels[i]] - np.delete(p, labels[i], 1).max(1)
             margin[[t[i] for t in taken]] = -math.inf  # never a view it has taken

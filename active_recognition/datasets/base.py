@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..files import atomic_write
 from ..meshes import MeshError, load_mesh
 from ..validation import InputError
 
@@ -61,18 +62,10 @@ def in_split(key: str, split: str, test_fraction: float) -> bool:
 
 
 def save_npz_atomic(path: Path, **arrays):
-    """Write `arrays` to `path` through a temporary file renamed into place: readers see the
-    old file or the whole new one, and a failed write leaves neither a partial nor a temporary
-    file behind."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with open(tmp, "wb") as f:
-            np.savez(f, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    """Write `arrays` to `path` atomically (files.atomic_write): readers see the old file or
+    the whole new one."""
+    with atomic_write(path, "wb") as f:
+        np.savez(f, **arrays)
 
 
 def load_npz(path: Path, keys):

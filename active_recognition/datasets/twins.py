@@ -175,12 +175,6 @@ BASES = {"nightstand": nightstand, "bookcase": bookcase, "counter": counter, "ot
          "sideboard": sideboard, "lectern": lectern}
 
 
-def telling_side(label: int):
-    """(axis, sign) of the face from which class `label` is told from its twin."""
-    _, axis, sign = PAIRS[label // 2]
-    return axis, sign
-
-
 def face_view(axis, sign, tilt=0.3):
     """(theta, phi) looking at face (axis, sign) from `tilt` radians off its normal."""
     normal, other = np.zeros(3), np.zeros(3)

@@ -14,39 +14,60 @@
 
 """Thin rclpy shells around the core (the only place rclpy is imported)."""
 import functools
-import subprocess
 import sys
 import time
 import traceback
-import warnings
+
+from active_recognition.validation import InputError
 
 
-def stop_processes(procs, grace=10.0):
-    """SIGTERM each node process (subprocess.Popen), wait up to `grace` seconds, then SIGKILL what
-    is left. Once in many CI runs a camera process has outlived SIGTERM by 10 s inside FastDDS's
-    teardown (its work long done): it is killed and reported, not left to fail the caller."""
-    for p in procs:
-        p.terminate()
-    for p in procs:
+def declare_parameters(node, params):
+    """Declare {name: options.Param} with descriptors (description, the range where the check bounds
+    a number on both sides, read-only unless it may change at run time); return their values, each
+    passed through its validation.Check (InputError naming it). A value outside a range is refused
+    by rclpy before the node's own callback sees it: it is logged here, as the node logs the others."""
+    from rclpy.exceptions import InvalidParameterValueException
+
+    for name, param in params.items():
         try:
-            p.wait(timeout=grace)
-        except subprocess.TimeoutExpired:
-            warnings.warn(f"{p.args[:3]} outlived SIGTERM by {grace:g} s: killed")
-            p.kill()
-            p.wait(timeout=grace)
+            node.declare_parameter(name, param.default, descriptor(param))
+        except InvalidParameterValueException:  # out of range: refused below in the check's words
+            node.declare_parameter(name, param.default, descriptor(param, ranged=False))
+    node.add_pre_set_parameters_callback(functools.partial(log_out_of_range, node, params))
+    checks = {name: param.check for name, param in params.items()}
+    return {name: check_parameter(checks, name, node.get_parameter(name).value) for name in params}
 
 
-def declare_parameters(node, params, checks, runtime=()):
-    """Declare {name: (default, type, description)} with descriptors; return their values, each
-    passed through its validation.Check in `checks` (InputError naming it). Parameters not in
-    `runtime` are read-only: the node reads them once, so a later change is refused, not ignored."""
-    from rcl_interfaces.msg import ParameterDescriptor
+def descriptor(param, ranged=True):
+    """The ROS ParameterDescriptor of an options.Param."""
+    from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 
-    for name, (default, kind, text) in params.items():
-        node.declare_parameter(name, default, ParameterDescriptor(
-            type=kind, description=text, read_only=name not in runtime))
-    return {name: check_parameter(checks, name, node.get_parameter(name).value)
-            for name in params}
+    kind = {bool: 1, int: 2, float: 3, str: 4}[param.check.kind]  # rcl_interfaces ParameterType
+    d = ParameterDescriptor(type=kind, description=param.description, read_only=param.read_only)
+    if ranged and param.bounds is not None:
+        lo, hi = param.bounds
+        if kind == 2:
+            d.integer_range = [IntegerRange(from_value=lo, to_value=hi, step=0)]
+        else:
+            d.floating_point_range = [FloatingPointRange(from_value=lo, to_value=hi, step=0.0)]
+    return d
+
+
+def log_out_of_range(node, params, changes):
+    """rclpy refuses a value outside its descriptor's range before any on-set callback: warn of it
+    (node.refuse, per parameter) in the check's words; the list goes on unchanged."""
+    refuse = getattr(node, "refuse", None)
+    for p in changes:
+        param = params.get(p.name)
+        if refuse is None or param is None or param.bounds is None or param.read_only:
+            continue
+        lo, hi = param.bounds
+        if isinstance(p.value, (int, float)) and not lo <= p.value <= hi:  # NaN too
+            try:
+                param.check(f"parameter {p.name}", p.value)
+            except InputError as e:
+                refuse(f"parameter {p.name}", f"parameter refused: {e}")
+    return changes
 
 
 def check_parameter(checks, name, value):

@@ -27,7 +27,7 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
-from active_recognition.checkpoint import load_model, shipped
+from active_recognition.checkpoint import load_model, model_path
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
@@ -57,12 +57,6 @@ class MultiThreadedExecutor(executors.MultiThreadedExecutor):
             if future.done():
                 self._futures.remove(future)
                 future.result()  # raise any exceptions
-
-
-def shipped_checkpoint(dataset="procedural"):
-    """The recognizer's `checkpoint` parameter for a dataset's shipped model (its default is the
-    ModelNet10 model: loops that show procedural or twins objects pass this)."""
-    return Parameter("checkpoint", value=str(shipped(dataset)))
 
 
 @contextmanager
@@ -126,7 +120,7 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
     test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
     if not 1 <= objects <= len(test):
         raise InputError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")
-    checkpoint = checkpoint or str(shipped(dataset))
+    checkpoint = str(model_path(checkpoint, dataset))
     classes = load_model(checkpoint)[1]  # refused now if unfit, not inside the recognizer node
     if classes != list(test.classes):
         raise InputError(f"checkpoint {checkpoint}: its classes {classes} are not the {dataset} "

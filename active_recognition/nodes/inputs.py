@@ -23,8 +23,6 @@ publishers change (`follow`, called now and then).
 """
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-QOS_MODES = ("auto", "reliable", "sensor_data")
-
 
 def sensor_qos(reliable):
     return QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST,
@@ -42,7 +40,7 @@ def offered_reliable(node, topic):
 
 
 class SensorSubscription:
-    """A keep-last-1 subscription with the reliability of `mode` (one of QOS_MODES)."""
+    """A keep-last-1 subscription with the reliability of `mode` (one of node_params.QOS_MODES)."""
 
     def __init__(self, node, msg_type, topic, callback, mode="auto"):
         self.node, self.msg_type, self.callback, self.mode = node, msg_type, callback, mode

@@ -28,90 +28,33 @@ usable image answers is sent again, then its view is given up for another (the e
 import sys
 import time
 from collections import deque
-from dataclasses import replace
+from dataclasses import fields, replace
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray
-from rcl_interfaces.msg import ParameterType, SetParametersResult
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from std_srvs.srv import Trigger
 
 import msg_adapters as ma
-from active_recognition.checkpoint import shipped
-from active_recognition.episode import EpisodeConfig
+from active_recognition.checkpoint import model_path
 from active_recognition.health import Health
+from active_recognition.node_params import NodeConfig, RecognizerParameters
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
-from active_recognition.nodes.inputs import QOS_MODES
 from active_recognition.nodes.recognizer_inputs import RecognizerInputs
 from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics, end_header, \
     recorded_topics
 from active_recognition.nodes.recorder import Recorder
-from active_recognition.reach import ViewLimits
-from active_recognition.recognizer import ActiveRecognizer, NODE_PLANNERS, SensingConfig, \
-    least_top_score
-from active_recognition.validation import Check, InputError, SEED_MAX, checks
+from active_recognition.options import parameters
+from active_recognition.recognizer import ActiveRecognizer, SensingConfig, least_top_score
+from active_recognition.validation import InputError, group
 
-STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
-INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
-PARAMS = {  # name: (default, type, description)
-    "checkpoint": ("", STR, "model file; empty = the shipped ModelNet10 model (real furniture)"),
-    "planner": ("auto", STR, "next-view planner: auto (the checkpoint's best), learned, random, "
-                             "straight, reinforce, fixed, imitation or fixed+imitation"),
-    "entropy_threshold": (0.1, DBL, "stop below this entropy (nats)"),
-    "max_views": (10, INT, "stop after this many views"),
-    "seed": (0, INT, "seed of the random initial views"),
-    "frame_id": ("object", STR, "frame of next_view: the object's"),
-    "require_fresh_images": (True, BOOL, "ignore images stamped before the last next_view request"),
-    "object_size": (1.0, DBL, "metres: longest edge of the object's bounding box, 0.001..100 "
-                              "(from the next reset)"),
-    "use_size": (True, BOOL, "weigh what object_size says of the class (a checkpoint with a size "
-                             "prior, as modelnet10.pt): set object_size to the detector's box"),
-    "standoff": (0.0, DBL, "metres from the object's centre to the camera in next_view; 0 = auto "
-                           "(the object fills the camera's narrower field of view, 10 % margin)"),
-    "pose_tolerance": (0.05, DBL, "seconds: the camera/pose nearest an image's stamp within this is "
-                                  "its pose; an image waits this long for it"),
-    "min_object_fraction": (0.003, DBL, "images showing less of the object (share of the model's "
-                                        "pixels) are not classified"),
-    "max_empty_views": (3, INT, "this many empty images in a row end the episode: no_object"),
-    "image_qos": ("auto", STR, "reliability of depth/image, depth/camera_info and camera/pose "
-                               "(keep-last 1): auto (what their publishers offer), reliable or "
-                               "sensor_data (best effort)"),
-    "view_timeout": (3.0, DBL, "seconds: a next_view no usable image answers within this is sent "
-                               "again"),
-    "max_retries": (1, INT, "resends of one view; when they go unanswered too the view is "
-                            "unreachable and the planner picks another"),
-    "max_unreachable_views": (2, INT, "this many unreachable views in a row (or none left) end "
-                                      "the episode: no_image"),
-    "min_elevation": (0.0, DBL, "degrees above the plane through the object's centre (object "
-                                "frame, z up): no view from lower; 0 suits an object on a floor "
-                                "or table"),
-    "max_elevation": (90.0, DBL, "degrees: no view from higher; 90 = from straight above"),
-    "max_clock_offset": (5.0, DBL, "seconds: images and poses stamped further from this node's "
-                                   "clock are refused"),
-    "box_margin": (0.1, DBL, "keep points this far (x object_size) outside the object's box"),
-    "recentre": (0.25, DBL, "at an object's first view, move its centre toward the centre of the "
-                            "box of what is seen (the first 5 % ignored), at most this far "
-                            "(x object_size); 0 = trust the object frame"),
-    "record": ("", STR, "an .mcap file to record every topic of the loop to (from start to "
-                        "shutdown); empty = off"),
-    "episode_timeout": (60.0, DBL, "seconds: an episode still under way this long after its "
-                                   "~/reset ends with status timeout and the best guess so far"),
-    "autostart": (True, BOOL, "configure and activate at start, as a plain node does; false: "
-                              "wait for a lifecycle manager"),
-}
-SENSING = ("object_size", "use_size", "standoff", "min_object_fraction", "max_empty_views", "box_margin",
-           "recentre", "max_unreachable_views")
-CHECKS = {**checks(EpisodeConfig), **checks(SensingConfig), **checks(ViewLimits),
-          "checkpoint": Check(str), "planner": Check(str, choices=NODE_PLANNERS),
-          "seed": Check(int, lo=0, hi=SEED_MAX), "frame_id": Check(str, length=(1, None)),
-          "require_fresh_images": Check(bool), "pose_tolerance": Check(float, lo=0, hi=60),
-          "image_qos": Check(str, choices=QOS_MODES),
-          "view_timeout": Check(float, lo=0.01, hi=3600), "max_retries": Check(int, lo=0, hi=100),
-          "max_clock_offset": Check(float, lo=0.001, hi=86400),
-          "episode_timeout": Check(float, lo=0.1, hi=86400), "autostart": Check(bool)}
-TIMING = ("pose_tolerance", "view_timeout", "max_retries", "max_clock_offset", "episode_timeout")
-RUNTIME = TIMING + SENSING  # the rest are read once, at start
+PARAMS = parameters(RecognizerParameters)  # name: options.Param (default, check, description)
+CHECKS = {name: param.check for name, param in PARAMS.items()}
+SENSING = tuple(f.name for f in fields(SensingConfig))
+TIMING = tuple(f.name for f in fields(NodeConfig) if f.metadata["runtime"])
+RUNTIME = tuple(name for name, param in PARAMS.items() if not param.read_only)  # the rest: once, at start
 QOS_CHECK_S = 1.0  # how often `image_qos: auto` looks at the publishers again
 DIAGNOSTICS_S = 1.0  # /diagnostics period
 SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FAILURE
@@ -121,7 +64,7 @@ class Recognizer(RecognizerInputs, LifecycleNode):
     def __init__(self, **kwargs):
         super().__init__("recognizer", **kwargs)
         try:  # declared now; checked by configure, where a bad one fails the transition
-            declare_parameters(self, PARAMS, CHECKS, RUNTIME)
+            declare_parameters(self, PARAMS)
         except InputError:
             pass
         for name in TIMING + ("image_qos", "autostart"):
@@ -162,14 +105,14 @@ class Recognizer(RecognizerInputs, LifecycleNode):
 
     def configure(self):
         p = {name: check_parameter(CHECKS, name, self.get_parameter(name).value) for name in PARAMS}
+        cfg = RecognizerParameters(**group(RecognizerParameters, p))
         self.frame_id, self.fresh_only = p["frame_id"], p["require_fresh_images"]
         for name in TIMING:
             setattr(self, name, p[name])
-        self.sensing = SensingConfig(**{k: p[k] for k in SENSING})
-        self.model_file = p["checkpoint"] or str(shipped("modelnet"))
-        core = ActiveRecognizer(self.model_file, EpisodeConfig(p["max_views"], p["entropy_threshold"]),
-                                p["seed"], p["planner"], self.sensing,
-                                ViewLimits(p["min_elevation"], p["max_elevation"]))
+        self.sensing = cfg.sensing
+        self.model_file = str(model_path(p["checkpoint"], "modelnet"))  # real objects
+        core = ActiveRecognizer(self.model_file, cfg.episode, p["seed"], p["planner"], self.sensing,
+                                cfg.limits)
         self.core = core  # the LabelInfo threshold: the least top score a recognised class has
         self.outputs = Outputs(self, core.classes,
                                least_top_score(p["entropy_threshold"], len(core.classes)))
@@ -292,8 +235,8 @@ class Recognizer(RecognizerInputs, LifecycleNode):
             self.qos_checked = time.monotonic()
             for sub in self.inputs:
                 sub.follow()
-        if self.pending is not None and time.monotonic() - self.pending[3] > self.pose_tolerance:
-            pose = self.pose_at(self.pending[0], final=True)
+        if self.pending is not None and time.monotonic() - self.pending.since > self.pose_tolerance:
+            pose = self.pose_at(self.pending.stamp, final=True)
             if not self.poses:
                 self.expect_poses = False
                 self.once("pose", "no camera/pose received: assuming each image is taken at the "
@@ -302,7 +245,7 @@ class Recognizer(RecognizerInputs, LifecycleNode):
                 self.refuse("pose_tolerance", f"no camera/pose within pose_tolerance "
                                               f"({self.pose_tolerance} s) of the image: assuming "
                                               f"the requested view")
-            self.process(*self.pending[1:3], pose, *self.pending[4:6])
+            self.process_pending(pose)
         if self.episode_start is not None and not self.core.done and \
                 time.monotonic() - self.episode_start > self.episode_timeout:
             self.refuse("episode_timeout", f"the episode ran past episode_timeout "

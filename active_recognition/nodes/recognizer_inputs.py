@@ -18,12 +18,16 @@ refused one never reaches the core); an image is paired with the latest CameraIn
 camera pose of its stamp, waiting up to pose_tolerance for a late pose.
 """
 import time
+from typing import NamedTuple
 
+import numpy as np
 from geometry_msgs.msg import PoseStamped
 from sensor_msgs.msg import CameraInfo, Image
+from std_msgs.msg import Header
 
 import msg_adapters as ma
 from active_recognition import plausible
+from active_recognition.geometry import Intrinsics
 from active_recognition.nodes import guarded
 from active_recognition.nodes.inputs import SensorSubscription
 from active_recognition.validation import InputError
@@ -78,9 +82,9 @@ class RecognizerInputs:
         self.poses.append((seconds, position, rotation))
         self.expect_poses = True
         if self.pending is not None:
-            pose = self.pose_at(self.pending[0])
+            pose = self.pose_at(self.pending.stamp)
             if pose is not None:
-                self.process(*self.pending[1:3], pose, *self.pending[4:6])
+                self.process_pending(pose)
 
     def pose_at(self, stamp, final=False):
         """(position, rotation) of the pose stamped like the image, else the nearest within
@@ -129,7 +133,22 @@ class RecognizerInputs:
         if pose is None and self.expect_poses:  # its pose may still be on its way
             # a newer image replaces the waiting one but not its wait: with no poses at all, a
             # 30 Hz camera would otherwise restart the wait forever
-            since = self.pending[3] if self.pending is not None else time.monotonic()
-            self.pending = (seconds, metres, k, since, start, msg.header)
+            since = self.pending.since if self.pending is not None else time.monotonic()
+            self.pending = PendingImage(seconds, metres, k, since, start, msg.header)
             return
         self.process(metres, k, pose, start, msg.header)
+
+    def process_pending(self, pose):
+        p = self.pending
+        self.process(p.metres, p.k, pose, p.start, p.header)
+
+
+class PendingImage(NamedTuple):
+    """An image waiting for the camera/pose of its stamp."""
+
+    stamp: float           # seconds: the image's stamp
+    metres: np.ndarray     # (H, W) depth, NaN = no return
+    k: Intrinsics | None   # the image's camera; None: the model's own
+    since: float           # time.monotonic() when the wait began (a newer image keeps it)
+    start: float           # time.perf_counter() when the image arrived (the step's latency)
+    header: Header         # the image's, for the Classification

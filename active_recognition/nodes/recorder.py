@@ -19,10 +19,10 @@ type's complete ros2msg definition (msg_adapters.definitions), so rosbag2, Foxgl
 readers decode the file without this package. The file is written under a temporary name beside
 the target and renamed into place when the recorder closes.
 """
-import os
 import threading
 import time
 from collections import Counter
+from contextlib import ExitStack
 from functools import partial
 from pathlib import Path
 
@@ -34,6 +34,7 @@ from std_msgs.msg import Float32MultiArray, String
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
+from active_recognition.files import atomic_write
 from active_recognition.nodes import guarded
 from active_recognition.validation import InputError
 from msg_adapters.definitions import message_definition
@@ -106,9 +107,8 @@ class Recorder:
             raise InputError("record: needs the mcap package (pip install mcap, or rosdep install "
                              "with rosdep/active_recognition.yaml)") from None
         self.node, self.lock, self.counts = node, threading.Lock(), Counter()
-        self.partial = self.path.with_name(f".{self.path.name}.{os.getpid()}.tmp")
-        self.file = open(self.partial, "wb")
-        self.writer = Writer(self.file)
+        self.output = ExitStack()  # the file under its temporary name until close()
+        self.writer = Writer(self.output.enter_context(atomic_write(self.path, "wb")))
         self.writer.start(profile="ros2", library="active_recognition recorder")
         group = MutuallyExclusiveCallbackGroup()
         self.subscriptions, schemas = [], {}
@@ -146,13 +146,8 @@ class Recorder:
             for sub in self.subscriptions:
                 self.node.destroy_subscription(sub)
             try:
-                self.writer.finish()
-                self.file.close()
-                os.replace(self.partial, self.path)
-            except BaseException:
-                self.file.close()
-                os.unlink(self.partial)
-                raise
+                with self.output:  # closed and renamed into place; removed if finishing fails
+                    self.writer.finish()
             finally:
                 self.writer = None
         return self.path

@@ -24,62 +24,29 @@ import sys
 from dataclasses import fields
 
 from geometry_msgs.msg import PoseStamped
-from rcl_interfaces.msg import ParameterType, SetParametersResult
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
-from active_recognition.datasets import NAMES, SPLITS
+from active_recognition.node_params import ObjectSource, SimulatedCameraParameters
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
-from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
-from active_recognition.validation import Check, InputError, SEED_MAX, checks
+from active_recognition.options import parameters
+from active_recognition.simulated_camera import SimulatedCamera
+from active_recognition.validation import InputError, group
 
-STR, DBL = ParameterType.PARAMETER_STRING, ParameterType.PARAMETER_DOUBLE
-INT, BOOL = ParameterType.PARAMETER_INTEGER, ParameterType.PARAMETER_BOOL
-TYPES = {int: INT, float: DBL, str: STR, bool: BOOL}
-SENSOR_TEXT = {
-    "width": "image width, pixels", "height": "image height, pixels",
-    "fov": "horizontal field of view, degrees (used unless fx > 0)",
-    "fx": "focal length x, pixels; 0 = from fov", "fy": "focal length y, pixels; 0 = fx",
-    "cx": "principal point x, pixels; 0 = the centre", "cy": "principal point y; 0 = the centre",
-    "noise": "depth noise: none or kinect (sigma = 0.0012 + 0.0019 (z - 0.4)^2 m)",
-    "noise_scale": "multiplies the noise's sigma", "dropout": "fraction of pixels lost at random",
-    "edge_dropout": "degrees: drop flying pixels at depth jumps steeper than a surface this far "
-                    "from face-on; 0 = off",
-    "min_range": "metres; no return nearer", "max_range": "metres; no return farther; 0 = none",
-    "encoding": "32FC1 (metres) or 16UC1 (millimetres)",
-    "floor": "an opaque plane under the object; a pose below it gets no image",
-    "pose_error_deg": "the arm misses each pose by this orbit; camera/pose says where it went",
-    "unanswered": "share of requests the arm never reaches: nothing is published for them",
-    "object_size": "metres: the mesh's longest bounding-box edge",
-}
-PARAMS = {  # name: (default, type, description)
-    "mesh": ("", STR, "mesh file to show; empty = an object of `dataset`"),
-    "dataset": ("procedural", STR, "procedural, twins, modelnet, shapenet or folder"),
-    "root": ("", STR, "dataset root (not for procedural)"),
-    "split": ("test", STR, "train, val, test or cross (a generated benchmark's held-out styles)"),
-    "index": (0, INT, "which object of the dataset split"),
-    "frame_id": ("camera_depth_optical_frame", STR, "frame_id of the images"),
-    "seed": (0, INT, "seed of the noise, the pose error and the unanswered requests"),
-    "image_qos": ("sensor_data", STR, "reliability of depth/image, depth/camera_info and "
-                                      "camera/pose: sensor_data (best effort) or reliable"),
-    **{f.name: (f.default, TYPES[type(f.default)], SENSOR_TEXT[f.name])
-       for f in fields(SensorConfig)},
-}
-OBJECT = ("mesh", "dataset", "root", "split", "index")  # may change at run time
-CHECKS = {**checks(SensorConfig), "mesh": Check(str), "dataset": Check(str, choices=NAMES),
-          "root": Check(str), "split": Check(str, choices=SPLITS), "index": Check(int, lo=0),
-          "frame_id": Check(str, length=(1, None)), "seed": Check(int, lo=0, hi=SEED_MAX),
-          "image_qos": Check(str, choices=("sensor_data", "reliable"))}
+PARAMS = parameters(SimulatedCameraParameters)  # name: options.Param (default, check, description)
+CHECKS = {name: param.check for name, param in PARAMS.items()}
+OBJECT = tuple(f.name for f in fields(ObjectSource))  # may change at run time
 
 
 class SimulatedCameraNode(Node):
     def __init__(self, **kwargs):
         super().__init__("simulated_camera", **kwargs)
-        p = declare_parameters(self, PARAMS, CHECKS, OBJECT)
-        sensor = SensorConfig(**{f.name: p[f.name] for f in fields(SensorConfig)})
+        p = declare_parameters(self, PARAMS)
+        sensor = SimulatedCameraParameters(**group(SimulatedCameraParameters, p)).sensor
         self.sim = SimulatedCamera(sensor, p["seed"])
         self.sim.load(**{k: p[k] for k in OBJECT})
         self.frame_id = p["frame_id"]
