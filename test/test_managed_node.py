@@ -222,3 +222,28 @@ def test_a_camera_answering_one_request_in_three_ends_within_episode_timeout():
             assert spin_until(executor, lambda: bool(got["result"]), 2)
             scores, unlabeled = ma.classification_scores(got["result"][0], CLASSES)
             assert unlabeled and CLASSES[scores.argmax()] == result["label"]
+
+
+@pytest.mark.slow
+def test_describe_parameters_from_another_node_gives_every_range_and_read_only():
+    from rcl_interfaces.srv import DescribeParameters
+
+    from active_recognition.nodes.recognizer import PARAMS
+
+    with recognizer_process("described"), ros_session() as (ctx, executor):
+        node = rclpy.create_node("asker", context=ctx)
+        executor.add_node(node)
+        describe = node.create_client(DescribeParameters, "/described/recognizer/describe_parameters")
+        answer = call(executor, describe, DescribeParameters.Request(names=list(PARAMS)))
+        got = {d.name: d for d in answer.descriptors}
+        assert set(got) == set(PARAMS)
+        bounded = [name for name, param in PARAMS.items() if param.bounds is not None]
+        assert {"episode_timeout", "view_timeout", "max_views", "object_size"} <= set(bounded)
+        for name in bounded:
+            d, (lo, hi) = got[name], PARAMS[name].bounds
+            ranges = d.integer_range or d.floating_point_range
+            assert len(ranges) == 1, name
+            assert (ranges[0].from_value, ranges[0].to_value) == pytest.approx((lo, hi)), name
+        for name, param in PARAMS.items():
+            assert got[name].read_only == param.read_only and got[name].description, name
+        assert got["autostart"].read_only and not got["episode_timeout"].read_only
