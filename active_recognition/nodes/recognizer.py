@@ -99,8 +99,7 @@ class Recognizer(RecognizerInputs, LifecycleNode):
             return FAILURE
         self.failure = self.health.error = None
         self.state = "inactive"
-        self.get_logger().info(f"recognizer configured: {len(self.core.classes)} classes, "
-                               f"planner {self.core.planner}")
+        self.get_logger().info(f"configured: {self.model_file}")
         return SUCCESS
 
     def configure(self):
@@ -134,6 +133,8 @@ class Recognizer(RecognizerInputs, LifecycleNode):
         self.timer = self.create_timer(0.01, guarded(self, self.on_timer))
         self.outputs.latched()
         self.state = "active"
+        self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, "
+                               f"planner {self.core.planner}")
         if self.paused_at is not None:
             paused, self.paused_at = time.monotonic() - self.paused_at, None
             self.health.resumed(paused)
