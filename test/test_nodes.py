@@ -400,3 +400,19 @@ def test_without_vision_msgs_the_node_says_once_which_outputs_are_off_and_still_
     assert not recognizer.outputs.vision and "recognition/classification" not in recognizer.outputs.pubs
     result = recognize(executor, client)
     assert result is not None and result["status"] == "recognized"
+
+
+def test_an_episode_paused_by_deactivate_goes_on_at_activate(loop):
+    from std_srvs.srv import Trigger
+
+    ctx, executor, camera, recognizer, client = loop
+    results = []
+    client.create_subscription(String, "recognition/result", lambda m: results.append(m.data), 10)
+    assert recognizer.on_reset(Trigger.Request(), Trigger.Response()).success  # first view asked
+    recognizer.trigger_deactivate()  # before the camera's answer can arrive
+    spin_until(executor, lambda: False, 0.5)
+    assert recognizer.received == 0 and recognizer.core.episode.steps == 0 and not results
+    assert recognizer.episode_start is not None and recognizer.waiting_since is None
+    recognizer.trigger_activate()  # asks for the view again
+    assert spin_until(executor, lambda: bool(results), 10)
+    assert json.loads(results[0])["status"] == "recognized" and recognizer.received > 0
