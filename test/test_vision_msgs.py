@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import import_ros, need_vision_msgs
+from conftest import import_ros, load_benchmark, need_vision_msgs
 
 rclpy = import_ros("rclpy")
 need_vision_msgs()
@@ -36,12 +36,12 @@ from vision_msgs.msg import Classification, LabelInfo  # noqa: E402
 from vision_publisher import EXPECTED, messages  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition.nodes import stop_processes  # noqa: E402
 from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recorder import RELIABLE, Recorder, vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+stop_processes = load_benchmark("common").stop_processes
 # The RIHS01 hashes of vision_msgs 4.1 as its own build generates them
 # (rosidl_generator_type_description/vision_msgs/msg/*.json of a colcon build of the released
 # package): what a subscriber of the real package compares on discovery.
