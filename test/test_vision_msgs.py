@@ -43,6 +43,7 @@ from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 stop_processes = load_benchmark("common").stop_processes  # SIGTERM, then SIGKILL
 
 HERE = Path(__file__).resolve().parent
+stop_processes = load_benchmark("common").stop_processes
 # The RIHS01 hashes of vision_msgs 4.1 as its own build generates them
 # (rosidl_generator_type_description/vision_msgs/msg/*.json of a colcon build of the released
 # package): what a subscriber of the real package compares on discovery.
