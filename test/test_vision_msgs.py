@@ -40,8 +40,6 @@ from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recorder import RELIABLE, Recorder, vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 
-stop_processes = load_benchmark("common").stop_processes  # SIGTERM, then SIGKILL
-
 HERE = Path(__file__).resolve().parent
 stop_processes = load_benchmark("common").stop_processes
 # The RIHS01 hashes of vision_msgs 4.1 as its own build generates them
