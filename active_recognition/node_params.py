@@ -71,6 +71,12 @@ class NodeConfig:
         "an .mcap file: every topic of the loop is recorded to it from start to shutdown "
         "(written as a temporary file beside it and renamed on shutdown); ros2 bag play and "
         "Foxglove read it. Empty = off"))
+    episode_timeout: float = option(60.0, lo=0.1, hi=86400, runtime=True, help=(
+        "seconds: an episode still under way this long after its ~/reset ends with status "
+        "timeout and the best guess so far (60 s: each of 10 views taking both its tries of 3 s)"))
+    autostart: bool = option(True, help=(
+        "configure and activate at start, as a plain node does; false: a lifecycle manager "
+        "drives it (configure, activate)"))
 
     def __post_init__(self):
         validate(self)

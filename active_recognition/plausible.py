@@ -60,6 +60,23 @@ def check_camera_position(position, what="camera/pose") -> np.ndarray:
     return position
 
 
+def check_outside_box(position, centre, object_size, what="camera/pose") -> np.ndarray:
+    """A camera position (3,) metres outside the object's box, else InputError naming the field.
+
+    The box is the one the core keeps the object's points from (before box_margin): object_size
+    along every axis, as the longest edge bounds each, about the object's centre as found so far
+    (`centre`, metres: the object frame's origin until recentre moves it). A camera inside it
+    would be inside the object, or closer to it than any view the model knows."""
+    position = np.asarray(position, dtype=np.float64)
+    offset = position - np.asarray(centre, dtype=np.float64)
+    if np.all(np.abs(offset) < object_size / 2):
+        raise InputError(
+            f"{what} pose.position ({', '.join(f'{v:.3g}' for v in position)}) m lies inside the "
+            f"object's box (edge {object_size:g} m, the parameter object_size, about its centre "
+            f"({', '.join(f'{v:.3g}' for v in centre)}) m): a camera there is inside the object")
+    return position
+
+
 def check_clock(stamp, now, tolerance, what="depth/image"):
     """Seconds `stamp` within `tolerance` of the clock `now`; else InputError naming the stamp."""
     offset = stamp - now

@@ -26,6 +26,7 @@ one, else its own FC_loc. The ROS node is a thin shell around this class.
 """
 from __future__ import annotations
 
+import math
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -91,7 +92,7 @@ class SensingConfig:
 @dataclass
 class Observation:
     # classified (go on), recognized (stopped), empty, moved (another view after an unreachable
-    # one), no_object or no_image (ended)
+    # one), no_object, no_image or timeout (ended)
     status: str
     probs: np.ndarray | None  # (C,); None when the image was not classified
     label: str
@@ -104,7 +105,8 @@ class Observation:
 
     def result(self):
         """The JSON-able result of an episode that has ended (recognition/result)."""
-        found = self.status == "recognized" or (self.status == "no_image" and self.probs is not None)
+        found = self.status == "recognized" or (self.status in ("no_image", "timeout")
+                                                and self.probs is not None)
         return {"status": self.status, "label": self.label if found else "",
                 "probability": float(self.probs.max()) if found else 0.0,
                 "entropy": self.entropy if found else None, "views": self.views}
@@ -147,7 +149,7 @@ class ActiveRecognizer:
         self.episode.reset(torch.tensor(view, dtype=torch.float32),
                            [self.sensing.object_size] if self.sensing.use_size else None)
         self.empty_views, self.no_object = 0, False
-        self.no_image, self.unreachable_run = False, (None, 0)
+        self.no_image, self.unreachable_run, self.timed_out = False, (None, 0), False
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
         return tuple(float(v) for v in self.episode.view[0])
 
@@ -171,7 +173,7 @@ class ActiveRecognizer:
 
     @property
     def done(self):
-        return self.no_object or self.no_image or bool(self.episode.done[0])
+        return self.no_object or self.no_image or self.timed_out or bool(self.episode.done[0])
 
     def shot(self, metres, k=None, position=None, rotation=None):
         """A metric depth image (H, W), NaN = no return, with its camera K and pose in the object
@@ -292,8 +294,39 @@ class ActiveRecognizer:
             choice = planner.next_view(self.episode, None) if planner is not None else self.view
             self.episode.move_to(self.reach.keep(np.asarray(choice, np.float64).reshape(1, 2),
                                                  self.episode.visited())[0])
+        return self.so_far("no_image" if self.no_image else "moved")
+
+    def time_out(self) -> Observation:
+        """The episode ran past its time (the node's episode_timeout): it ends with "timeout", the
+        label so far, if any view was classified, in the result."""
+        if self.done:
+            raise RuntimeError("the episode has ended; reset() for a new object")
+        self.timed_out = True
+        return self.so_far("timeout")
+
+    def so_far(self, status) -> Observation:
+        """An Observation of no image, carrying the best guess so far (none before a view)."""
         probs = self.episode.probs[-1][0].detach().numpy() if self.episode.steps else None
         label = self.classes[int(probs.argmax())] if probs is not None else ""
         entropy = float(self.episode.entropies[-1][0]) if probs is not None else None
-        return Observation("no_image" if self.no_image else "moved", probs, label, entropy,
-                           self.view, self.no_image, self.episode.steps, self.view, 0.0)
+        return Observation(status, probs, label, entropy, self.view, self.done,
+                           self.episode.steps, self.view, 0.0)
+
+
+def least_top_score(entropy_threshold, n_classes):
+    """The smallest top probability a distribution over `n_classes` can have with an entropy
+    (nats) below `entropy_threshold`: the score a recognised class has at least (vision_msgs
+    LabelInfo's threshold). The least entropy at top probability p puts p on floor(1/p) classes
+    and the rest on one; it falls as p grows, so p is found by bisection."""
+    def least_entropy(p):
+        k = math.floor(1 / p)
+        rest = max(1.0 - k * p, 0.0)
+        return -k * p * math.log(p) - (rest * math.log(rest) if rest > 0 else 0.0)
+
+    lo, hi = 1.0 / n_classes, 1.0
+    if entropy_threshold >= least_entropy(lo):
+        return lo
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if least_entropy(mid) < entropy_threshold else (mid, hi)
+    return hi

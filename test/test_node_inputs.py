@@ -97,6 +97,9 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
          "the latest camera_info was refused (camera_info: camera size 0x480"),
         (stamped(pose("world"), recognizer), "camera/pose", "header.frame_id 'world'"),
         (stamped(pose(position=(1e6, 0.0, 0.0)), recognizer), "camera/pose", "pose.position"),
+        # a camera inside the object (its box: object_size about the centre) is refused too
+        (stamped(pose(position=(0.05, 0.0, 0.02)), recognizer), "camera/pose",
+         "inside the object's box (edge 1 m, the parameter object_size"),
         (stamped(pose(w=2.0), recognizer), "camera/pose", "unit quaternion"),
         (stamped(pose(), recognizer, offset=-3600.0), "camera/pose", "header.stamp"),
         (stamped(image, recognizer, offset=-3600.0), "depth/image", "header.stamp"),

@@ -357,3 +357,62 @@ def test_the_camera_shows_every_split_a_dataset_has():
             camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("split", value=split)])
             assert camera.sim.description.startswith(label), camera.sim.description
             camera.destroy_node()
+
+
+def test_a_failed_configure_is_logged_and_reported_as_an_error_on_diagnostics():
+    from lifecycle_msgs.msg import State
+    from rclpy.lifecycle import TransitionCallbackReturn
+
+    from active_recognition.nodes.recognizer_outputs import diagnostics
+
+    with ros_session() as (ctx, executor):
+        recognizer = Recognizer(context=ctx, parameter_overrides=[
+            Parameter("autostart", value=False), Parameter("checkpoint", value="/nonexistent.pt")])
+        assert recognizer.state == "unconfigured"  # nothing loaded, nothing opened
+        assert recognizer.core is None and recognizer.inputs == []
+        assert recognizer.trigger_configure() == TransitionCallbackReturn.FAILURE
+        assert recognizer._state_machine.current_state[0] == State.PRIMARY_STATE_UNCONFIGURED
+        status = diagnostics(recognizer, time.monotonic()).status[0]
+        assert ma.level_name(status) == "ERROR" and "/nonexistent.pt: no such file" in status.message
+        values = ma.status_values(status)
+        assert values["model"] == "/nonexistent.pt" and values["model loaded"] == "false"
+        good = Recognizer(context=ctx, parameter_overrides=[Parameter("autostart", value=False),
+                                                            Parameter("max_views", value=0)])
+        assert good.trigger_configure() == TransitionCallbackReturn.FAILURE
+        assert "max_views must be" in str(good.failure)
+
+
+def test_without_vision_msgs_the_node_says_once_which_outputs_are_off_and_still_works(loop, monkeypatch):
+    from rclpy.lifecycle import TransitionCallbackReturn
+
+    from active_recognition.nodes import recognizer_outputs
+
+    ctx, executor, camera, recognizer, client = loop
+    monkeypatch.setattr(recognizer_outputs.ma, "HAVE_VISION_MSGS", False)
+    monkeypatch.setattr(recognizer_outputs.ma, "VISION_MSGS_MISSING", "vision_msgs is not installed")
+    said = []
+    monkeypatch.setattr(recognizer, "once", lambda key, text, warn=False: said.append((key, text)))
+    for transition in ("deactivate", "cleanup", "configure", "activate"):
+        assert getattr(recognizer, f"trigger_{transition}")() == TransitionCallbackReturn.SUCCESS, transition
+    assert said == [("vision_msgs", "vision_msgs outputs off (recognition/classification, "
+                                    "recognition/result/classification, recognition/label_info): "
+                                    "vision_msgs is not installed")]
+    assert not recognizer.outputs.vision and "recognition/classification" not in recognizer.outputs.pubs
+    result = recognize(executor, client)
+    assert result is not None and result["status"] == "recognized"
+
+
+def test_an_episode_paused_by_deactivate_goes_on_at_activate(loop):
+    from std_srvs.srv import Trigger
+
+    ctx, executor, camera, recognizer, client = loop
+    results = []
+    client.create_subscription(String, "recognition/result", lambda m: results.append(m.data), 10)
+    assert recognizer.on_reset(Trigger.Request(), Trigger.Response()).success  # first view asked
+    recognizer.trigger_deactivate()  # before the camera's answer can arrive
+    spin_until(executor, lambda: False, 0.5)
+    assert recognizer.received == 0 and recognizer.core.episode.steps == 0 and not results
+    assert recognizer.episode_start is not None and recognizer.waiting_since is None
+    recognizer.trigger_activate()  # asks for the view again
+    assert spin_until(executor, lambda: bool(results), 10)
+    assert json.loads(results[0])["status"] == "recognized" and recognizer.received > 0

@@ -153,7 +153,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             if result is None or result["status"] != "recognized":
                 why = ("no result (timed out)" if result is None else
                        {"no_object": "no object seen",
-                        "no_image": "no image came (no view could be had)"}[result["status"]])
+                        "no_image": "no image came (no view could be had)",
+                        "timeout": "the episode ran past episode_timeout"}[result["status"]])
                 out(f"object {n + 1}/{len(order)}: true={truth:<12} {why}")
                 rows.append((False, 0, ms))
                 continue

@@ -1,0 +1,117 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The recognizer's health, as its /diagnostics reports it (no rclpy: testable alone).
+
+Counts what happens (frames in, frames refused, steps and their latency, episodes by status) on
+a monotonic clock the caller passes in, and decides the level:
+- ERROR while the model is not loaded (configure failed: `error` says why);
+- WARN during an episode when no image has come within view_timeout (the camera is silent), or
+  when more than REFUSED_SHARE of the frames of the last WINDOW_S seconds were refused (at least
+  MIN_FRAMES of them came);
+- OK otherwise.
+Rates and latency percentiles are over the last WINDOW_S seconds.
+"""
+from __future__ import annotations
+
+from collections import Counter, deque
+
+import numpy as np
+
+WINDOW_S = 10.0       # seconds: rates, latency and the refused share are over this window
+REFUSED_SHARE = 0.5   # WARN when more than this share of the window's frames were refused ...
+MIN_FRAMES = 5        # ... and at least this many frames came in it
+MAX_EVENTS = 100_000  # kept per kind within the window, whatever the frame rate
+
+
+class Health:
+    def __init__(self, window=WINDOW_S, refused_share=REFUSED_SHARE, min_frames=MIN_FRAMES):
+        self.window, self.refused_share, self.min_frames = window, refused_share, min_frames
+        self.frames = deque(maxlen=MAX_EVENTS)    # arrival time of each frame
+        self.refused = deque(maxlen=MAX_EVENTS)   # time of each frame refused
+        self.steps = deque(maxlen=MAX_EVENTS)     # (time, step latency ms)
+        self.episodes = Counter()                 # episodes ended, by status
+        self.last_frame = None
+        self.episode_since = None                 # start of the episode under way, else None
+        self.error = None                         # why the node cannot work, else None
+
+    def frame(self, now):
+        self.frames.append(now)
+        self.last_frame = now
+
+    def refuse(self, now):
+        self.refused.append(now)
+
+    def step(self, now, ms):
+        self.steps.append((now, ms))
+
+    def started(self, now):
+        self.episode_since = now
+
+    def ended(self, status):
+        self.episode_since = None
+        self.episodes[status] += 1
+
+    def resumed(self, paused_for):
+        """The node was inactive for `paused_for` seconds: the silence then is not the camera's."""
+        if self.episode_since is not None:
+            self.episode_since += paused_for
+        if self.last_frame is not None:
+            self.last_frame += paused_for
+
+    def trim(self, now):
+        start = now - self.window
+        for events in (self.frames, self.refused):
+            while events and events[0] < start:
+                events.popleft()
+        while self.steps and self.steps[0][0] < start:
+            self.steps.popleft()
+
+    def silent_for(self, now):
+        """Seconds since the latest frame (or the episode's start, if later) during an episode;
+        None between episodes."""
+        if self.episode_since is None:
+            return None
+        latest = self.episode_since if self.last_frame is None else max(self.last_frame,
+                                                                        self.episode_since)
+        return now - latest
+
+    def level(self, now, view_timeout, active=True):
+        """(level, message): 'OK' / 'WARN' / 'ERROR' and why. Inactive, nothing is expected."""
+        self.trim(now)
+        if self.error is not None:
+            return "ERROR", f"the model is not loaded: {self.error}"
+        if not active:
+            return "OK", "inactive: images are ignored"
+        silent = self.silent_for(now)
+        if silent is not None and silent > view_timeout:
+            return "WARN", (f"no image for {silent:.1f} s during an episode (view_timeout "
+                            f"{view_timeout:g} s): is the camera silent?")
+        frames, refused = len(self.frames), len(self.refused)
+        if frames >= self.min_frames and refused > self.refused_share * frames:
+            return "WARN", (f"{refused} of {frames} frames refused in the last {self.window:g} s "
+                            f"(more than {self.refused_share:.0%})")
+        return "OK", "recognizing" if self.episode_since is not None else "waiting for ~/reset"
+
+    def values(self, now):
+        """{key: value} of the window and the totals, for the diagnostic status."""
+        self.trim(now)
+        ms = np.array([m for _, m in self.steps])
+        values = {"image rate (Hz)": len(self.frames) / self.window,
+                  f"frames refused (last {self.window:g} s)": len(self.refused),
+                  f"frames (last {self.window:g} s)": len(self.frames),
+                  "step latency p50 (ms)": float(np.percentile(ms, 50)) if len(ms) else "none",
+                  "step latency p99 (ms)": float(np.percentile(ms, 99)) if len(ms) else "none"}
+        values.update({f"episodes {status}": n for status, n in sorted(self.episodes.items())})
+        return values

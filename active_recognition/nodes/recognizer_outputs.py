@@ -1,0 +1,130 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""What the recognizer publishes: its lifecycle publishers (today's topics and the vision_msgs
+ones, where vision_msgs can be had) and its /diagnostics status.
+
+The results go out twice: as before (probabilities, label, JSON result, latched class names) for
+the users who have them, and as vision_msgs (a Classification per classified image with the
+image's header, one at an episode's end, and the latched LabelInfo) for the tools of ROS's
+perception convention. Where vision_msgs cannot be imported the vision outputs are off and the
+node says so once.
+"""
+import json
+
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import PoseStamped
+from rclpy.qos import QoSDurabilityPolicy, QoSProfile
+from std_msgs.msg import Float32MultiArray, Header, String
+from visualization_msgs.msg import MarkerArray
+
+import msg_adapters as ma
+from active_recognition.nodes.recorder import RELIABLE, TOPICS, vision_topics
+
+LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
+VISION_TOPICS = ("recognition/classification", "recognition/result/classification",
+                 "recognition/label_info")
+INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_tolerance")  # refusals
+
+
+def recorded_topics():
+    """Every topic of the loop, the vision_msgs ones where they can be had, and /diagnostics."""
+    return {**TOPICS, **vision_topics(), "/diagnostics": (DiagnosticArray, RELIABLE)}
+
+
+class Outputs:
+    """The recognizer's lifecycle publishers, made at configure: they send only while active."""
+
+    def __init__(self, node, classes, threshold):
+        self.node, self.classes, self.threshold = node, list(classes), threshold
+        make = node.create_lifecycle_publisher
+        self.pubs = {"classes": make(String, "recognition/classes", LATCHED),
+                     "probabilities": make(Float32MultiArray, "recognition/probabilities", 10),
+                     "label": make(String, "recognition/label", 10),
+                     "result": make(String, "recognition/result", 10),
+                     "view": make(PoseStamped, "next_view", 10),
+                     "markers": make(MarkerArray, "recognition/views", 10)}
+        self.vision = ma.HAVE_VISION_MSGS
+        if self.vision:
+            for name, (kind, _) in vision_topics().items():
+                self.pubs[name] = make(kind, name, LATCHED if name.endswith("label_info") else 10)
+        else:
+            node.once("vision_msgs", f"vision_msgs outputs off ({', '.join(VISION_TOPICS)}): "
+                                     f"{ma.VISION_MSGS_MISSING}", warn=True)
+
+    def destroy(self):
+        for pub in self.pubs.values():
+            self.node.destroy_lifecycle_publisher(pub)
+        self.pubs = {}
+
+    def latched(self):
+        """The class names and LabelInfo, for subscribers that come late (once active)."""
+        self.pubs["classes"].publish(String(data=json.dumps(self.classes)))
+        if self.vision:
+            self.pubs["recognition/label_info"].publish(ma.label_info(self.classes, self.threshold))
+
+    def view(self, msg):
+        self.pubs["view"].publish(msg)
+
+    def step(self, obs, header, markers):
+        """A classified image's probabilities, label, views so far and Classification."""
+        self.pubs["probabilities"].publish(ma.probabilities_to_msg(obs.probs))
+        self.pubs["label"].publish(String(data=obs.label))
+        self.pubs["markers"].publish(markers)
+        if self.vision:
+            self.pubs["recognition/classification"].publish(
+                ma.classification(obs.probs, self.classes, header))
+
+    def end(self, obs, header):
+        """An episode's end: the JSON result (with its status) and its Classification, UNLABELED
+        first unless an object was recognised, followed by the best guess so far."""
+        self.pubs["result"].publish(String(data=json.dumps(obs.result())))
+        if not self.vision:
+            return
+        if obs.status == "recognized":
+            msg = ma.classification(obs.probs, self.classes, header)
+        elif obs.probs is not None:
+            msg = ma.unknown_classification(header, obs.probs, self.classes)
+        else:
+            msg = ma.unknown_classification(header)
+        self.pubs["recognition/result/classification"].publish(msg)
+
+
+def end_header(node, last):
+    """The header of an episode's end: the last classified image's, else now in the object frame."""
+    return last if last is not None else Header(stamp=node.get_clock().now().to_msg(),
+                                                frame_id=node.frame_id)
+
+
+def diagnostics(node, now):
+    """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is monotonic seconds."""
+    level, message = node.health.level(now, node.view_timeout, node.state == "active")
+    values = {"state": node.state, "model": node.model_file or "", "model loaded": node.core is not None}
+    if node.core is not None:
+        values.update({"classes": len(node.core.classes), "planner": node.core.planner})
+    values["image_qos"] = node.image_qos
+    values.update({f"{sub.topic} reliability": sub.reliability for sub in node.inputs})
+    values.update(node.health.values(now))
+    values.update({"images received": node.received, "images classified": node.processed,
+                   "requests resent": node.resent, "views unreachable": node.unreachable,
+                   "images empty": node.empty, "images stale": node.stale})
+    counts = node.refuse.counts
+    values.update({f"refused {key}": counts.get(key, 0) for key in INPUT_KEYS})
+    values.update({f"refused {key}": n for key, n in sorted(counts.items())
+                   if key.startswith("parameter ")})
+    values.update({"view_timeout (s)": node.view_timeout,
+                   "episode_timeout (s)": node.episode_timeout})
+    name = f"{node.get_fully_qualified_name().lstrip('/')}: recognition"
+    status = ma.diagnostic_status(name, level, message, values)
+    return ma.diagnostic_array([status], node.get_clock().now().to_msg())
