@@ -52,6 +52,17 @@ def tiny_tree(tmp_path_factory):
     return root
 
 
+@pytest.fixture(scope="session")
+def dataset_cache():
+    """The cache of generated datasets shared by the tests that train or evaluate: the package's
+    default (default_cache_dir(), which the shipped-model and node tests read too). Generating
+    procedural's 2,000 training shapes takes about 10 s; shared, that happens once per machine
+    instead of once per test (each training subprocess inherits the folder through
+    ACTIVE_RECOGNITION_CACHE). Tests of the cache itself keep folders of their own."""
+    from active_recognition.datasets import default_cache_dir
+    return default_cache_dir()
+
+
 def load_benchmark(name):
     """A script of benchmarks/ as a module (they import their neighbours by plain name)."""
     import sys
