@@ -249,6 +249,7 @@ def drawn_style(ds, i):
     return label, found[0]
 
 
+@pytest.mark.slow
 def test_the_cross_style_split_holds_only_the_held_out_combinations():
     train, cross = (open_dataset("procedural", split=s, per_class=4) for s in ("train", "cross"))
     for ds, held_out in ((train, False), (cross, True)):
@@ -366,6 +367,7 @@ def test_shapes_with_a_yaw_turn_each_object_by_its_own_seeded_yaw_within_the_bou
     assert fingerprint(turned) != fingerprint(upright) == fingerprint(Shapes(ds, cam))
 
 
+@pytest.mark.slow
 def test_a_simulated_camera_opens_a_split_once_for_every_object_it_shows(tmp_path, monkeypatch,
                                                                          dataset_cache):
     """Switching objects reads the split's index once per process and cache folder; another

@@ -98,6 +98,7 @@ def test_hostile_and_mismatched_checkpoints_are_refused(tmp_path):
         checkpoint.load_model(tmp_path / "junk.pt")
 
 
+@pytest.mark.slow
 def test_killed_run_resumes_to_the_same_weights(tmp_path):
     env = {**os.environ, "OMP_NUM_THREADS": "1"}
     straight, killed = tmp_path / "straight", tmp_path / "killed"
@@ -176,6 +177,7 @@ def torchrun(tmp_path_factory, dataset_cache):
     return stdout, stderr, proc.returncode, outs
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("run", TORCHRUN_RUNS)
 def test_two_process_torchrun_on_cpu_agrees(torchrun, run):
     """The end-to-end policy and imitation, whose joint stage leaves FC_loc without a gradient:
@@ -202,6 +204,7 @@ def tiny(tree, out, **extra):
                           "model": {"hidden_size": 8, "feature_size": 8}, **extra})
 
 
+@pytest.mark.slow
 def test_a_diverging_run_stops_by_name_and_keeps_its_last_good_checkpoint(tiny_tree, tmp_path):
     run = tmp_path / "run"
     with pytest.raises(InputError) as e:
@@ -245,6 +248,7 @@ def test_resuming_a_run_of_other_options_or_without_state_is_refused(tiny_tree, 
             train(tiny(tiny_tree, run, resume=True), progress=False)
 
 
+@pytest.mark.slow
 def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_path, monkeypatch):
     """The rate of every optimizer step, read where Adam steps, against the cosine written out."""
     import math
@@ -271,6 +275,7 @@ def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_pat
     assert {tuple(x) for x in seen} == {(1e-3, 1e-3), (3e-4, 1.5e-4)}
 
 
+@pytest.mark.slow
 def test_stage_loc_added_to_a_finished_run_gives_the_run_that_had_it_from_the_start(tmp_path):
     imitation = {**TINY, "policy": "imitation", "joint_epochs": 1,
                  "model": {**TINY["model"], "candidates": 8, "view_input": True}}
@@ -313,6 +318,7 @@ def test_stage_loc_waits_for_a_finished_joint_stage(tmp_path):
         train(TrainConfig(**grown, stage="loc", resume=True, out=str(tmp_path / "none")), progress=False)
 
 
+@pytest.mark.slow
 def test_a_run_stopped_after_an_epochs_last_batch_resumes_to_its_whole_loss(tmp_path, monkeypatch):
     """Saved after the last batch of pre-training's first epoch, stopped before that epoch's row:
     the resumed run logs the epoch's loss over all its batches, as the run that never stopped did.
