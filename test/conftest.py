@@ -15,6 +15,7 @@
 import importlib
 import os
 import random
+import sys
 
 import numpy as np
 import pytest
@@ -22,6 +23,14 @@ import pytest
 # A private DDS domain per test run, so parallel runs on one machine do not hear each other.
 os.environ.setdefault("ROS_DOMAIN_ID", str(random.SystemRandom().randint(1, 100)))
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+# torch on one thread, here and in every process a test starts (unless OMP_NUM_THREADS says
+# otherwise): the tests' tensors are small, and beside the processes a test starts (cameras,
+# torchrun workers, commands run side by side) two OpenMP workers a process wait on each other.
+# Measured on a busy 2-core machine: test_shipped and test_evaluate in 13-21 s on one thread,
+# 52-58 s on two, with twice the CPU time; the recognizer's own step runs on one for that reason.
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+if "torch" in sys.modules:  # imported before this file: the variable is read at import
+    sys.modules["torch"].set_num_threads(int(os.environ["OMP_NUM_THREADS"]))
 
 
 @pytest.fixture
