@@ -149,7 +149,6 @@ def test_dataset_reports_a_class_missing_from_a_split_as_zero(files, tmp_path, c
     assert sheet.stat().st_size > 0 and len(list((cache / "meshes").glob("*.npz"))) == 3
 
 
-@pytest.mark.slow
 def test_train_then_evaluate_through_the_command(trained, tiny_tree, tmp_path, capsys):
     ckpt = checkpoint.read(trained / "final.pt")
     assert ckpt["classes"] == ["box", "cylinder"] and ckpt["model_args"]["hidden_size"] == 8

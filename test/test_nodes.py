@@ -189,7 +189,6 @@ def test_the_recognizer_loads_the_shipped_modelnet10_model_unless_told_otherwise
         assert default.core.planner == choose_planner("auto", model, ckpt)  # its `auto`
 
 
-@pytest.mark.slow
 def test_demo_on_twins_uses_the_shipped_twins_model_and_its_best_planner():
     from active_recognition.nodes.demo import run_demo
     lines = []
@@ -201,7 +200,6 @@ def test_demo_on_twins_uses_the_shipped_twins_model_and_its_best_planner():
         run_demo(objects=0, dataset="twins")
 
 
-@pytest.mark.slow
 def test_a_realsense_camera_at_a_size_the_model_never_saw_closes_the_loop():
     from active_recognition.nodes.demo import run_demo
     summary = run_demo(objects=2, seed=3, camera="realsense", out=lambda line: None)
@@ -360,7 +358,6 @@ def test_bad_parameters_at_run_time_are_refused_and_the_node_keeps_its_settings(
     assert recognize(executor, client) is not None  # and it still recognises
 
 
-@pytest.mark.slow
 def test_the_camera_shows_every_split_a_dataset_has():
     """val (where choices are made) and cross (held-out styles) too; it refused them before."""
     with ros_session() as (ctx, executor):

@@ -204,7 +204,6 @@ def tiny(tree, out, **extra):
                           "model": {"hidden_size": 8, "feature_size": 8}, **extra})
 
 
-@pytest.mark.slow
 def test_a_diverging_run_stops_by_name_and_keeps_its_last_good_checkpoint(tiny_tree, tmp_path):
     run = tmp_path / "run"
     with pytest.raises(InputError) as e:
@@ -318,7 +317,6 @@ def test_stage_loc_waits_for_a_finished_joint_stage(tmp_path):
         train(TrainConfig(**grown, stage="loc", resume=True, out=str(tmp_path / "none")), progress=False)
 
 
-@pytest.mark.slow
 def test_a_run_stopped_after_an_epochs_last_batch_resumes_to_its_whole_loss(tmp_path, monkeypatch):
     """Saved after the last batch of pre-training's first epoch, stopped before that epoch's row:
     the resumed run logs the epoch's loss over all its batches, as the run that never stopped did.
