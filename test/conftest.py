@@ -15,6 +15,7 @@
 import importlib
 import os
 import random
+import sys
 
 import numpy as np
 import pytest
@@ -22,6 +23,14 @@ import pytest
 # A private DDS domain per test run, so parallel runs on one machine do not hear each other.
 os.environ.setdefault("ROS_DOMAIN_ID", str(random.SystemRandom().randint(1, 100)))
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
+# torch on one thread, here and in every process a test starts (unless OMP_NUM_THREADS says
+# otherwise): the tests' tensors are small, and beside the processes a test starts (cameras,
+# torchrun workers, commands run side by side) two OpenMP workers a process wait on each other.
+# Measured on a busy 2-core machine: test_shipped and test_evaluate in 13-21 s on one thread,
+# 52-58 s on two, with twice the CPU time; the recognizer's own step runs on one for that reason.
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+if "torch" in sys.modules:  # imported before this file: the variable is read at import
+    sys.modules["torch"].set_num_threads(int(os.environ["OMP_NUM_THREADS"]))
 
 
 @pytest.fixture
@@ -50,6 +59,31 @@ def tiny_tree(tmp_path_factory):
         for i in range(10):
             make(0.4 + 0.1 * i).export(root / c / f"{c}{i}.stl")
     return root
+
+
+@pytest.fixture(scope="session")
+def dataset_cache():
+    """The cache of generated datasets shared by the tests that train or evaluate: the package's
+    default (default_cache_dir(), which the shipped-model and node tests read too). Generating
+    procedural's 2,000 training shapes takes about 10 s; shared, that happens once per machine
+    instead of once per test (each training subprocess inherits the folder through
+    ACTIVE_RECOGNITION_CACHE). Tests of the cache itself keep folders of their own."""
+    from active_recognition.datasets import default_cache_dir
+    return default_cache_dir()
+
+
+def run_side_by_side(commands, timeout=120, **kwargs):
+    """subprocess.run(command, capture_output=True, text=True) for every command, as many at once
+    as the machine has cores: the commands the tests start only to see how they refuse bad input
+    spend their seconds importing torch and rclpy on one core each, so side by side they take a
+    fraction of the time. The CompletedProcess of each, in order."""
+    import subprocess
+    from concurrent.futures import ThreadPoolExecutor
+
+    def run(command):
+        return subprocess.run(command, capture_output=True, text=True, timeout=timeout, **kwargs)
+    with ThreadPoolExecutor(max(2, os.cpu_count() or 1)) as pool:
+        return list(pool.map(run, commands))
 
 
 def load_benchmark(name):

@@ -200,6 +200,7 @@ def test_bad_augmentation_is_refused_by_name():
         Augment(steep=0.5)
 
 
+@pytest.mark.slow
 def test_training_with_every_augmentation_runs_and_learns_finite_weights(tmp_path):
     cfg = TrainConfig(**{**TINY, "out": str(tmp_path / "run"), "yaw": True, "frame_error": 0.15,
                          "floor_cut": 0.03, "dropout": 0.3,

@@ -16,13 +16,12 @@
 in one line naming the thing and the reason, before any long work; a partial run never
 overwrites the committed figures; a checkpoint's error crosses a process pool whole."""
 import pickle
-import subprocess
 import sys
 from dataclasses import replace
 from pathlib import Path
 
 import pytest
-from conftest import load_benchmark
+from conftest import load_benchmark, run_side_by_side
 
 from active_recognition.checkpoint import CheckpointError
 from active_recognition.datasets import default_cache_dir, open_dataset
@@ -31,13 +30,7 @@ from active_recognition.evaluate import EvalConfig, halves
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def run(script, *args):
-    out = subprocess.run([sys.executable, str(ROOT / "benchmarks" / script), *map(str, args)],
-                         capture_output=True, text=True, timeout=300)
-    return out.returncode, out.stderr
-
-
-@pytest.mark.parametrize("script, args, said", [
+BAD_INPUT = [
     ("planners.py", ["--dataset", "modelnet", "--root", "{tmp}/nope", "--out", "{tmp}/o"],
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("planners.py", ["--checkpoint", "{tmp}/garbage.pt", "--out", "{tmp}/o"],
@@ -57,16 +50,38 @@ def run(script, *args):
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("camera_robustness.py", ["--workers", "0"], "--workers must be at least 1, got 0"),
     ("camera_robustness.py", ["--rows", "clean"], "a partial run (--rows) would overwrite the committed"),
-])
-def test_bad_input_ends_in_one_line_and_writes_nothing(tmp_path, script, args, said):
-    (tmp_path / "garbage.pt").write_bytes(b"\x80not a checkpoint" * 8)
-    before = {p: p.stat().st_mtime_ns for p in (ROOT / "docs").rglob("*") if p.is_file()}
-    code, err = run(script, *(a.format(tmp=tmp_path) for a in args))
+]
+
+
+def docs_files():
+    return {p: p.stat().st_mtime_ns for p in (ROOT / "docs").rglob("*") if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def bad_runs(tmp_path_factory):
+    """Every run of BAD_INPUT, side by side, each in a folder of its own: ({(script, args):
+    (folder, CompletedProcess)}, the docs/ files' times before and after them all)."""
+    folders = [tmp_path_factory.mktemp("bad") for _ in BAD_INPUT]
+    for tmp in folders:
+        (tmp / "garbage.pt").write_bytes(b"\x80not a checkpoint" * 8)
+    before = docs_files()
+    done = run_side_by_side([[sys.executable, str(ROOT / "benchmarks" / script), *(a.format(tmp=tmp) for a in args)]
+                             for (script, args, _), tmp in zip(BAD_INPUT, folders)], timeout=300)
+    runs = {(script, tuple(args)): run for (script, args, _), run in zip(BAD_INPUT, zip(folders, done))}
+    return runs, before, docs_files()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("script, args, said", BAD_INPUT)
+def test_bad_input_ends_in_one_line_and_writes_nothing(bad_runs, script, args, said):
+    runs, before, after = bad_runs
+    tmp_path, p = runs[script, tuple(args)]
+    code, err = p.returncode, p.stderr
     assert code == 2, err
     assert "Traceback" not in err
     assert err.strip().splitlines()[-1].startswith(f"{script}: error: {said.format(tmp=tmp_path)}"), err
     assert not (tmp_path / "o").exists() and not (tmp_path / "c.json").exists()
-    assert {p: p.stat().st_mtime_ns for p in (ROOT / "docs").rglob("*") if p.is_file()} == before
+    assert after == before  # not one of the runs wrote to the committed figures
 
 
 def test_a_checkpoint_error_crosses_a_process_pool_whole():

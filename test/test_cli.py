@@ -166,6 +166,7 @@ def test_train_then_evaluate_through_the_command(trained, tiny_tree, tmp_path, c
     assert len(rows) == 1 + 2 * 3  # header, 3 test objects per planner
 
 
+@pytest.mark.slow
 def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, tiny_tree, tmp_path,
                                                                       capsys):
     out = tmp_path / "eval"
@@ -195,6 +196,7 @@ def test_evaluate_retrains_a_damaged_judge_and_handles_short_episodes(trained, t
     assert checkpoint.read_any(out / "shared_classifier.pt")["trained_on"] != "0" * 64
 
 
+@pytest.mark.slow
 def test_a_warning_of_the_package_is_one_line_and_names_no_source_line(trained, tiny_tree, tmp_path):
     """evaluate's readout warning, in a real process: before, Python printed it with the file,
     the line number, 'UserWarning' and the warn() call's source line below it."""
@@ -216,6 +218,7 @@ def test_warnings_from_elsewhere_keep_their_source():
     assert "DeprecationWarning" in cli.one_line_warning("old", DeprecationWarning, cli.__file__, 3)
 
 
+@pytest.mark.slow
 def test_evaluate_scores_with_a_given_judge_as_it_is_and_never_trains_over_it(
         trained, tiny_tree, tmp_path, capsys):
     base = ["evaluate", "--dataset", "folder", "--root", tiny_tree, "--checkpoint", trained / "final.pt",
@@ -255,6 +258,7 @@ def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, 
     assert config["joint_epochs"] == 1 and config["steps"] == 2 and config["lr_joint"] == 0.001
 
 
+@pytest.mark.slow
 def test_demo_recognises_an_object_over_ros():
     import_ros("rclpy")
     status, out, err = run_process(["demo", "--objects", 1])
@@ -393,6 +397,7 @@ def test_evaluate_refuses_before_any_work(files, trained, tiny_tree, capsys, arg
     assert not (files / "ev" / "report.md").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv,message", [
     (["--objects", "0"], "argument --objects: must be an integer from 1 to 100000, got '0'"),
     (["--objects", "-2"], "argument --objects: must be an integer from 1 to 100000, got '-2'"),
@@ -412,6 +417,7 @@ def test_demo_refuses(files, capsys, argv, message):
     refused(argv, message.format(**fill), None if "--record" in argv else capsys)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv,message", [
     (["train", "--config", "{files}/syntax.yaml"], "line 2, column 15: mapping values are not"),
     (["render", "--mesh", "{files}/box.stl", "--theta", "nan"], "must be a finite number"),

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.slow  # a colcon build and a node started from its install space
+
 ROOT = Path(__file__).resolve().parents[1]
 SKIP = shutil.ignore_patterns(".*", "build", "install", "log", "runs", "__pycache__", "*.egg-info")
 INSTALLED = ["lib/active_recognition/recognizer", "lib/active_recognition/simulated_camera",

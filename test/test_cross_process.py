@@ -34,6 +34,8 @@ from active_recognition.nodes.demo import DemoClient, recognize, ros_session, sp
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 
 stop_processes = load_benchmark("common").stop_processes
+pytestmark = pytest.mark.slow  # camera processes that load torch and a renderer: seconds each
+
 PROFILE = Path(__file__).resolve().parents[1] / "config" / "fastdds_large_frames.xml"
 VGA = {"width": 640, "height": 480, "fx": 385.0, "fy": 385.0, "encoding": "16UC1",
        "min_range": 0.2, "max_range": 10.0}

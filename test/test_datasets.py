@@ -249,6 +249,7 @@ def drawn_style(ds, i):
     return label, found[0]
 
 
+@pytest.mark.slow
 def test_the_cross_style_split_holds_only_the_held_out_combinations():
     train, cross = (open_dataset("procedural", split=s, per_class=4) for s in ("train", "cross"))
     for ds, held_out in ((train, False), (cross, True)):
@@ -366,19 +367,25 @@ def test_shapes_with_a_yaw_turn_each_object_by_its_own_seeded_yaw_within_the_bou
     assert fingerprint(turned) != fingerprint(upright) == fingerprint(Shapes(ds, cam))
 
 
-def test_a_simulated_camera_opens_a_split_once_for_every_object_it_shows(tmp_path, monkeypatch):
+@pytest.mark.slow
+def test_a_simulated_camera_opens_a_split_once_for_every_object_it_shows(tmp_path, monkeypatch,
+                                                                         dataset_cache):
     """Switching objects reads the split's index once per process and cache folder; another
     cache folder opens it again; the meshes are the dataset's own."""
+    import shutil
+
     import active_recognition.simulated_camera as sc
     opened = []
     real = sc.open_dataset
     monkeypatch.setattr(sc, "open_dataset", lambda *a, **k: opened.append(a) or real(*a, **k))
     sc.opened.cache_clear()
-    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "a"))
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     shown = [sc.load_object(dataset="twins", split="test", index=i) for i in (0, 3, 0)]
     assert len(opened) == 1 and shown[0][2] == shown[2][2] != shown[1][2]
-    ds = open_dataset("twins", split="test")
+    ds = open_dataset("twins", split="test")  # built afresh, without a cache
     np.testing.assert_array_equal(shown[1][0], ds.mesh(3)[0])
+    # another folder holding the same cache file (copied: building the split again costs seconds)
+    shutil.copytree(dataset_cache / "twins", tmp_path / "b" / "twins")
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "b"))
     sc.load_object(dataset="twins", split="test", index=1)
     assert len(opened) == 2

@@ -30,11 +30,12 @@ from active_recognition.validation import InputError
 
 
 @pytest.fixture(scope="module")
-def results(tmp_path_factory):
+def results(tmp_path_factory, dataset_cache):
     """Every planner on 12 procedural test objects (seeded), with a small untrained-ish model."""
     tmp = tmp_path_factory.mktemp("eval")
     import os
-    os.environ["ACTIVE_RECOGNITION_CACHE"] = str(tmp / "cache")
+    before = os.environ.get("ACTIVE_RECOGNITION_CACHE")
+    os.environ["ACTIVE_RECOGNITION_CACHE"] = str(dataset_cache)
     torch.manual_seed(0)
     for name in ("m", "rf"):
         model = RecurrentAttention(ModelConfig(num_classes=10, hidden_size=16, feature_size=16))
@@ -49,7 +50,10 @@ def results(tmp_path_factory):
                      oracle_candidates=12, trajectory_figures=1)
     res = evaluate(cfg, progress=False)
     yield res, cfg, tmp
-    del os.environ["ACTIVE_RECOGNITION_CACHE"]
+    if before is None:
+        del os.environ["ACTIVE_RECOGNITION_CACHE"]
+    else:
+        os.environ["ACTIVE_RECOGNITION_CACHE"] = before
 
 
 def test_every_planner_runs_on_the_same_objects_and_initial_views(results):

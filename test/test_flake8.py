@@ -21,6 +21,7 @@ from ament_flake8.main import main_with_errors
 ROOT = Path(__file__).resolve().parents[1]
 
 
+@pytest.mark.slow
 @pytest.mark.flake8
 @pytest.mark.linter
 def test_flake8(monkeypatch):

@@ -204,6 +204,7 @@ def test_the_triangle_block_and_the_polygon_walk_parse_alike():
         meshes.parse_off(off_text(verts, polys)[:-1].rsplit(" ", 2)[0])
 
 
+@pytest.mark.slow
 def test_the_load_benchmark_counts_the_whole_training_split_and_the_scenes_training_builds(tmp_path):
     """benchmarks/dataset_generation.py on a small ModelNet tree: every file of the training split
     (train and val, read once) and of test, the bad one skipped, and a scene per training shape

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 import torch
 
-from conftest import import_ros, load_benchmark
+from conftest import import_ros, load_benchmark, run_side_by_side
 
 rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -133,6 +133,7 @@ def test_mesh_change_at_run_time_and_a_bad_mesh_keeps_the_old_one(loop, tmp_path
     assert recognize(executor, client) is not None
 
 
+@pytest.mark.slow
 def test_nodes_in_separate_processes_close_the_loop():
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     procs = [subprocess.Popen([sys.executable, "-m", f"active_recognition.nodes.{name}"], env=env,
@@ -312,7 +313,7 @@ def test_a_stream_without_poses_faster_than_the_pose_tolerance_is_still_processe
         assert result is not None and result["status"] == "recognized" and result["views"] == 3
 
 
-@pytest.mark.parametrize("node,args,message", [
+CANNOT_START = [
     ("recognizer", ["-p", "seed:=-1"], "parameter seed must be an integer from 0 to 4294967295"),
     ("recognizer", ["-p", "max_views:=0"], "parameter max_views must be an integer from 1 to 1000"),
     ("recognizer", ["-p", "object_size:=1"], "expecting type 'DOUBLE'"),  # an integer for a double
@@ -323,10 +324,21 @@ def test_a_stream_without_poses_faster_than_the_pose_tolerance_is_still_processe
     ("simulated_camera", ["-p", "dropout:=1.5"], "parameter dropout must be a finite number in"),
     ("simulated_camera", ["-p", "index:=100000"], "index 100000 is out of range"),
     ("recognizer", ["--params-file", "/nonexistent/params.yaml"], "Couldn't parse params file"),  # a traceback
-])
-def test_a_node_that_cannot_start_says_why_in_one_line_and_exits_2(node, args, message):
-    p = subprocess.run([sys.executable, "-m", f"active_recognition.nodes.{node}", "--ros-args",
-                        *args], capture_output=True, text=True, timeout=120)
+]
+
+
+@pytest.fixture(scope="module")
+def failed_starts():
+    """Every start of CANNOT_START, side by side: {(node, args): CompletedProcess}."""
+    done = run_side_by_side([[sys.executable, "-m", f"active_recognition.nodes.{node}", "--ros-args", *args]
+                             for node, args, _ in CANNOT_START])
+    return {(node, tuple(args)): p for (node, args, _), p in zip(CANNOT_START, done)}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("node,args,message", CANNOT_START)
+def test_a_node_that_cannot_start_says_why_in_one_line_and_exits_2(failed_starts, node, args, message):
+    p = failed_starts[node, tuple(args)]
     assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
     errors = [line for line in p.stderr.splitlines() if "error:" in line]
     assert len(errors) == 1 and message in errors[0], p.stderr

@@ -213,10 +213,10 @@ def test_object_size_and_standoff_have_physical_bounds():
         SensingConfig(standoff=1e6)
 
 
-def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monkeypatch):
+def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monkeypatch, dataset_cache):
     from active_recognition.evaluate import EvalConfig, evaluate
 
-    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     cfg = EvalConfig(planners=("learned", "random", "straight", "oracle"), objects=6, steps=4,
                      shared=False, limits={"min_elevation": 0.0}, out=str(tmp_path / "out"), oracle_candidates=20,
                      trajectory_figures=0, starts=2)

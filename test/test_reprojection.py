@@ -347,6 +347,7 @@ REALSENSE = dict(width=640, height=480, fx=385.0, fy=385.0, noise="kinect", drop
                  edge_dropout=75.0, floor=True)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("sensor", [dict(), dict(fov=60.0), REALSENSE])
 def test_the_crop_reprojects_as_the_whole_frame_did(sensor):
     """Every pixel read (stride 1), the crop gives the whole-frame reprojection. The one

@@ -154,7 +154,9 @@ def test_modelnet_sizes_come_from_the_files_in_inches_through_the_cache(tmp_path
     turned = Shapes(warm, CameraConfig(16, 16), yaw=45.0)
     turned.yaws[:] = math.radians(45)
     np.testing.assert_allclose(turned.sizes([0]), [30 * INCH * 1.5 / math.sqrt(2)], rtol=1e-5)
-    assert Shapes(open_dataset("procedural", split="val"), CameraConfig(16, 16)).sizes([0, 1]) is None
+    # a generated dataset has no sizes (10 shapes a class: one each in val, not all 2,000 built)
+    procedural_val = open_dataset("procedural", split="val", per_class=10)
+    assert Shapes(procedural_val, CameraConfig(16, 16)).sizes([0, 1]) is None
 
 
 def test_a_checkpoint_entry_is_fitted_on_the_training_sizes_or_left_out_with_a_warning():

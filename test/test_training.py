@@ -34,8 +34,8 @@ TINY = dict(pretrain_epochs=1, joint_epochs=2, batch_size=6, max_shapes=30, step
 
 
 @pytest.fixture(autouse=True)
-def cache(tmp_path, monkeypatch):
-    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(tmp_path / "cache"))
+def cache(dataset_cache, monkeypatch):
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
 
 
 def weights(path):
@@ -98,28 +98,36 @@ def test_hostile_and_mismatched_checkpoints_are_refused(tmp_path):
         checkpoint.load_model(tmp_path / "junk.pt")
 
 
+@pytest.mark.slow
 def test_killed_run_resumes_to_the_same_weights(tmp_path):
-    torch.set_num_threads(1)
     env = {**os.environ, "OMP_NUM_THREADS": "1"}
-    straight = tmp_path / "straight"
-    subprocess.run(cli_args(straight), check=True, env=env, capture_output=True, timeout=300)
-    killed = tmp_path / "killed"
-    proc = subprocess.Popen(cli_args(killed), env=env, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    deadline = time.time() + 240
-    while time.time() < deadline:  # SIGKILL once the joint stage has written a checkpoint
-        try:
-            if checkpoint.read(killed / "last.pt")["state"]["stage"] == 1:
-                break
-        except CheckpointError:
-            pass
-        time.sleep(0.05)
-    proc.send_signal(signal.SIGKILL)
-    proc.wait()
-    state = checkpoint.read(killed / "last.pt")["state"]
-    assert state["stage"] == 1 and not (killed / "final.pt").exists(), state
-    subprocess.run(cli_args(killed) + ["--resume"], check=True, env=env, capture_output=True,
-                   timeout=300)
+    straight, killed = tmp_path / "straight", tmp_path / "killed"
+    # the run that never stops and the one killed go side by side (one thread each): the same
+    # commands as one after the other, in the time of the longer
+    logs = [open(tmp_path / f"{out.name}.log", "w") for out in (straight, killed)]
+    runs = [subprocess.Popen(cli_args(out), env=env, stdout=subprocess.DEVNULL, stderr=log)
+            for out, log in zip((straight, killed), logs)]
+    try:
+        deadline = time.time() + 240
+        while time.time() < deadline:  # SIGKILL once the joint stage has written a checkpoint
+            try:
+                if checkpoint.read(killed / "last.pt")["state"]["stage"] == 1:
+                    break
+            except CheckpointError:
+                pass
+            time.sleep(0.05)
+        runs[1].send_signal(signal.SIGKILL)
+        runs[1].wait()
+        state = checkpoint.read(killed / "last.pt")["state"]
+        assert state["stage"] == 1 and not (killed / "final.pt").exists(), state
+        subprocess.run(cli_args(killed) + ["--resume"], check=True, env=env, capture_output=True,
+                       timeout=300)
+        assert runs[0].wait(timeout=300) == 0, (tmp_path / "straight.log").read_text()[-3000:]
+    finally:
+        for run, log in zip(runs, logs):
+            run.kill()
+            run.wait()
+            log.close()
     a, b = weights(straight / "final.pt"), weights(killed / "final.pt")
     for k in a:
         torch.testing.assert_close(a[k], b[k], rtol=1e-5, atol=1e-6)
@@ -128,43 +136,58 @@ def test_killed_run_resumes_to_the_same_weights(tmp_path):
 TORCHRUN_SCRIPT = """
 import os, sys, torch, torch.distributed as dist
 from active_recognition.train import TrainConfig, train
-from active_recognition.validation import InputError
-cfg = TrainConfig(**eval(sys.argv[1]))
-model = train(cfg, progress=False)
-flat = torch.cat([p.detach().flatten() for p in model.parameters()])
-gathered = [torch.zeros_like(flat) for _ in range(dist.get_world_size())]
-dist.all_gather(gathered, flat)
-if dist.get_rank() == 0:
-    print("MAXDIFF", max((g - gathered[0]).abs().max().item() for g in gathered), flush=True)
+for name, values in eval(sys.argv[1]).items():  # one run after the other, in one process group
+    model = train(TrainConfig(**values), progress=False)
+    flat = torch.cat([p.detach().flatten() for p in model.parameters()])
+    gathered = [torch.zeros_like(flat) for _ in range(dist.get_world_size())]
+    dist.all_gather(gathered, flat)
+    if dist.get_rank() == 0:
+        print("MAXDIFF", name, max((g - gathered[0]).abs().max().item() for g in gathered), flush=True)
 dist.barrier()
 dist.destroy_process_group()
 os._exit(0)  # as the CLI does: skip an interpreter teardown that gloo/embree threads can abort
 """
+TORCHRUN_RUNS = {"end_to_end": {},
+                 "imitation": {"policy": "imitation", "model": {**TINY["model"], "candidates": 8}}}
 
 
-@pytest.mark.parametrize("policy", [{}, {"policy": "imitation", "model": {**TINY["model"], "candidates": 8}}])
-def test_two_process_torchrun_on_cpu_agrees(tmp_path, policy):
-    """The end-to-end policy and imitation, whose joint stage leaves FC_loc without a gradient:
-    DDP stopped there ('Expected to have finished reduction') before it was told of unused heads."""
-    script = tmp_path / "ddp.py"
+@pytest.fixture(scope="module")
+def torchrun(tmp_path_factory, dataset_cache):
+    """Every run of TORCHRUN_RUNS trained by one launch of 2 processes: (stdout, stderr, return
+    code, their out folders). Starting the launcher and its workers (torch, the dataset) costs
+    more than training any of these tiny runs, so they share one start."""
+    tmp = tmp_path_factory.mktemp("torchrun")
+    script = tmp / "ddp.py"
     script.write_text(TORCHRUN_SCRIPT)
-    cfg = {**TINY, "out": str(tmp_path / "ddp"), "joint_epochs": 1, **policy}
+    outs = {name: tmp / name for name in TORCHRUN_RUNS}
+    cfgs = {name: {**TINY, "out": str(outs[name]), "joint_epochs": 1, **values}
+            for name, values in TORCHRUN_RUNS.items()}
     # a session of its own, so a hang kills the launcher and both workers, not the launcher alone
     proc = subprocess.Popen([sys.executable, "-m", "torch.distributed.run", "--nproc_per_node=2",
-                             "--standalone", str(script), repr(cfg)], stdout=subprocess.PIPE,
+                             "--standalone", str(script), repr(cfgs)], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, start_new_session=True,
-                            env={**os.environ, "OMP_NUM_THREADS": "1"})
+                            env={**os.environ, "OMP_NUM_THREADS": "1",
+                                 "ACTIVE_RECOGNITION_CACHE": str(dataset_cache)})
     try:
         stdout, stderr = proc.communicate(timeout=240)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, signal.SIGKILL)
         proc.communicate()
         raise
+    return stdout, stderr, proc.returncode, outs
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("run", TORCHRUN_RUNS)
+def test_two_process_torchrun_on_cpu_agrees(torchrun, run):
+    """The end-to-end policy and imitation, whose joint stage leaves FC_loc without a gradient:
+    DDP stopped there ('Expected to have finished reduction') before it was told of unused heads."""
+    stdout, stderr, code, outs = torchrun
     errors = [line for line in stderr.splitlines() if "Error" in line or "error" in line]
-    assert proc.returncode == 0, "\n".join(errors[-15:]) or stderr[-3000:]
-    diff = float(stdout.split("MAXDIFF")[1].split()[0])
-    assert diff == 0.0
-    assert (tmp_path / "ddp" / "final.pt").exists()
+    assert code == 0, "\n".join(errors[-15:]) or stderr[-3000:]
+    diffs = dict(line.split()[1:] for line in stdout.splitlines() if line.startswith("MAXDIFF"))
+    assert float(diffs[run]) == 0.0
+    assert (outs[run] / "final.pt").exists()
 
 
 def test_an_initial_step_outside_the_bound_is_refused_before_any_training(tmp_path):
@@ -224,6 +247,7 @@ def test_resuming_a_run_of_other_options_or_without_state_is_refused(tiny_tree, 
             train(tiny(tiny_tree, run, resume=True), progress=False)
 
 
+@pytest.mark.slow
 def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_path, monkeypatch):
     """The rate of every optimizer step, read where Adam steps, against the cosine written out."""
     import math
@@ -250,6 +274,7 @@ def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_pat
     assert {tuple(x) for x in seen} == {(1e-3, 1e-3), (3e-4, 1.5e-4)}
 
 
+@pytest.mark.slow
 def test_stage_loc_added_to_a_finished_run_gives_the_run_that_had_it_from_the_start(tmp_path):
     imitation = {**TINY, "policy": "imitation", "joint_epochs": 1,
                  "model": {**TINY["model"], "candidates": 8, "view_input": True}}
