@@ -1,24 +1,15 @@
 # Copyright 2026 active_recognition maintainers
-#
-# Licensed under the Apache License, Version 2.0 (the "License");
-# you may not use this file except in compliance with the License.
-# You may obtain a copy of the License at
-#
-#     http://www.apache.org/licenses/LICENSE-2.0
-#
-# Unless required by applicable law or agreed to in writing, software
-# distributed under the License is distributed on an "AS IS" BASIS,
-# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-# See the License for the specific language governing permissions and
-# limitations under the License.
+# SPDX-License-Identifier: Apache-2.0
 
-"""Licence headers, checked as ament_copyright checks them (it has no wheel, so this stands in).
+"""Licence headers, in the SPDX form (ament_copyright has no wheel and does not run here).
 
-Every Python file and shell script opens (after a shebang) with a comment block holding a
-`Copyright YEAR NAME` line and the Apache-2.0 notice; LICENSE holds the full licence text, and
-package.xml and setup.py declare the same licence. YAML, XML and Markdown files carry no header:
-ament_copyright does not check them either, and LICENSE covers the whole package.
+Every Python file and shell script opens (after a shebang) with two comment lines, a
+`Copyright YEAR NAME` line and `SPDX-License-Identifier: Apache-2.0`; a Python file then has
+its own docstring, so the first thing a reader (or a tool showing a file's opening) meets is what
+the file is for. LICENSE holds the full licence text, and package.xml and setup.py declare the
+same licence. YAML, XML and Markdown files carry no header: LICENSE covers the whole package.
 """
+import ast
 import os
 import re
 import xml.etree.ElementTree as ET
@@ -27,17 +18,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-NOTICE = """Licensed under the Apache License, Version 2.0 (the "License");
-you may not use this file except in compliance with the License.
-You may obtain a copy of the License at
-
-    http://www.apache.org/licenses/LICENSE-2.0
-
-Unless required by applicable law or agreed to in writing, software
-distributed under the License is distributed on an "AS IS" BASIS,
-WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
-See the License for the specific language governing permissions and
-limitations under the License."""
+SPDX = "SPDX-License-Identifier: Apache-2.0"
 COPYRIGHT = re.compile(r"Copyright (\d{4})(-\d{4})? \S.*")
 SKIP_DIRS = {"build", "install", "log", "runs"}  # colcon's workspace folders, training output
 
@@ -60,27 +41,29 @@ def shell_script(path):
 
 
 def header_problem(path):
-    """None when `path` opens with a copyright line and the Apache-2.0 notice, else the reason."""
-    lines = Path(path).read_text(encoding="utf-8").splitlines()
+    """None when `path` opens with a copyright line, the SPDX line and (Python) a docstring, else
+    the reason."""
+    text = Path(path).read_text(encoding="utf-8")
+    lines = text.splitlines()
     if lines and lines[0].startswith("#!"):
         lines = lines[1:]
-    block = []
-    for line in lines:
-        if not line.startswith("#"):
-            break
-        block.append(line[2:] if line.startswith("# ") else line[1:])
-    if not block:
+    if not lines or not lines[0].startswith("# "):
         return "no comment block at the top"
-    if not COPYRIGHT.fullmatch(block[0]):
-        return f"first comment line is not 'Copyright YEAR NAME': {block[0]!r}"
-    if "\n".join(block[1:]).strip() != NOTICE:
-        return "the comment block after the copyright line is not the Apache-2.0 notice"
+    if not COPYRIGHT.fullmatch(lines[0][2:]):
+        return f"first comment line is not 'Copyright YEAR NAME': {lines[0]!r}"
+    if len(lines) < 2 or lines[1] != "# " + SPDX:
+        return f"second line is not '# {SPDX}'"
+    block = [line for line in lines[2:12] if line.startswith("#")]
+    if any("Licensed under" in line for line in block):
+        return "the old Apache notice follows the SPDX line"
+    if Path(path).suffix == ".py" and text.strip() and ast.get_docstring(ast.parse(text)) is None:
+        return "no module docstring after the header"
     return None
 
 
 @pytest.mark.copyright
 @pytest.mark.linter
-def test_every_source_file_has_the_apache_header():
+def test_every_source_file_has_the_spdx_header():
     checked = list(sources(ROOT))
     assert any(p.name == "setup.py" for p in checked) and any(p.name == "run" for p in checked)
     problems = [f"{p.relative_to(ROOT)}: {why}" for p in checked if (why := header_problem(p))]
@@ -89,17 +72,23 @@ def test_every_source_file_has_the_apache_header():
 
 @pytest.mark.parametrize("text,reason", [
     ('"""No header."""\n', "no comment block"),
-    ("# Copyright someone\n#\n# " + NOTICE.replace("\n", "\n# ") + "\n", "Copyright YEAR NAME"),
-    ("# Copyright 2026 someone\n#\n# Licensed under the MIT License.\n", "not the Apache-2.0"),
+    ("# Copyright someone\n# " + SPDX + "\n", "Copyright YEAR NAME"),
+    ("# Copyright 2026 someone\n# SPDX-License-Identifier: MIT\n", "second line"),
+    ("# Copyright 2026 someone\n# " + SPDX + "\n#\n# Licensed under the Apache License\n",
+     "old Apache notice"),
+    ("# Copyright 2026 someone\n# " + SPDX + "\n\nimport os\n", "no module docstring"),
 ])
 def test_a_missing_or_wrong_header_is_named(tmp_path, text, reason):
     path = tmp_path / "bad.py"
     path.write_text(text)
     assert reason in header_problem(path)
     good = tmp_path / "good.py"
-    good.write_text("#!/usr/bin/env python3\n# Copyright 2026 someone\n#\n# "
-                    + NOTICE.replace("\n", "\n# ").replace("# \n", "#\n") + "\nimport os\n")
+    good.write_text("#!/usr/bin/env python3\n# Copyright 2026 someone\n# " + SPDX
+                    + '\n\n"""What it is for."""\nimport os\n')
     assert header_problem(good) is None
+    script = tmp_path / "run.sh"
+    script.write_text("#!/usr/bin/env bash\n# Copyright 2026 someone\n# " + SPDX + "\nset -e\n")
+    assert header_problem(script) is None
 
 
 def test_license_file_and_declarations_agree():
