@@ -149,6 +149,7 @@ def receive(kind, topic, qos, timeout=20.0):
     return got[0] if got else None
 
 
+@pytest.mark.slow  # a publisher in another process
 def test_a_classification_crosses_processes_intact(publisher):
     msg = receive(Classification, "recognition/classification", 10)
     assert msg is not None, "no Classification from the other process"
@@ -159,6 +160,7 @@ def test_a_classification_crosses_processes_intact(publisher):
     assert scores.tolist() == EXPECTED["probabilities"] and not unlabeled
 
 
+@pytest.mark.slow  # a publisher in another process
 def test_label_info_reaches_a_subscriber_that_starts_late(publisher):
     time.sleep(0.5)  # published well before this subscriber exists
     latched = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
@@ -168,6 +170,7 @@ def test_label_info_reaches_a_subscriber_that_starts_late(publisher):
     assert msg.threshold == pytest.approx(EXPECTED["threshold"])
 
 
+@pytest.mark.slow  # a publisher in another process
 def test_diagnostics_arrive_intact(publisher):
     msg = receive(DiagnosticArray, "/diagnostics", 10)
     assert msg is not None, "no DiagnosticArray from the other process"
