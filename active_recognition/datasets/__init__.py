@@ -12,8 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, and the embedded benchmarks
-(procedural, twins)."""
+"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, the embedded benchmarks (procedural,
+twins) and the generated objects of no known class (unknowns, for open-set recognition)."""
 from __future__ import annotations
 
 import warnings
@@ -27,10 +27,12 @@ from .modelnet import modelnet
 from .procedural import procedural
 from .shapenet import shapenet
 from .twins import twins
+from .unknowns import unknowns
 from ..validation import InputError
 
-NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
-GENERATED = {"procedural": procedural, "twins": twins}
+NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")  # what a model trains and is scored on
+GENERATED = {"procedural": procedural, "twins": twins, "unknowns": unknowns}
+OWN_VAL = ("unknowns",)  # generated with a val split of its own styles, not a tenth of train
 
 
 SPLITS = ("train", "val", "test", "cross")  # cross: a generated benchmark's held-out styles
@@ -53,11 +55,12 @@ def open_splits(name, root=None, splits=("train", "val"), cache_dir=None, valida
     if bad:
         raise InputError(f"split must be one of {', '.join(SPLITS)}, got {bad[0]!r}")
     read = {}
+    carved = ("train", "val") if name not in OWN_VAL else ()
     for split in splits:
-        source = "train" if split in ("train", "val") else split
+        source = "train" if split in carved else split
         if source not in read:
             read[source] = read_split(name, root, source, cache_dir, validate, **kwargs)
-    return {s: validation_split(copy_of(read["train"]), s) if s in ("train", "val") else read[s]
+    return {s: validation_split(copy_of(read["train"]), s) if s in carved else read[s]
             for s in splits}
 
 
