@@ -123,3 +123,23 @@ def test_recorded_rollout_agrees_with_its_answers(readout):
     if readout == "mean":  # the answer is the running mean of the recorded steps' own answers
         np.testing.assert_allclose(ro.probs, np.cumsum(own, 1) / np.arange(1, 4)[:, None], atol=1e-5)
     np.testing.assert_allclose(rec["probs"], ro.probs)
+
+
+def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
+    """benchmarks/open_set.py end to end on the procedural benchmark, a few objects of each split."""
+    import json
+
+    from conftest import load_benchmark
+
+    out = tmp_path / "open_set.json"
+    load_benchmark("open_set").main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
+                                     "--steps", "3", "--out", str(out)])
+    last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert set(last) == {"auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy", "chosen"}
+    assert set(last["auroc"]) == set(open_set.SCORES) and all(len(v) == 3 for v in last["auroc"].values())
+    assert all(0 <= x <= 1 for v in last["fpr95"].values() for x in v)
+    record = json.loads(out.read_text())
+    assert record["objects"] == {"known_test": 4, "unknown_test": 4, "known_val": 4, "unknown_val": 4, "fit": 20}
+    for s in open_set.SCORES:  # known accuracy with rejection is at most the closed-set one
+        assert last["known_accuracy"][s]["3"] <= record["closed_set_accuracy"]["3"] + 1e-9
+        assert last["known_rejected"][s]["3"] in {0, 0.25, 0.5, 0.75, 1.0}

@@ -114,7 +114,8 @@ def plant(rng, pot, leaves, st):  # pot: drum, tapered, square | leaves: bush, b
         for k in range(int(rng.integers(5, 10))):
             a, ln = 2 * np.pi * k / 7 + rng.uniform(-0.3, 0.3), rng.uniform(2, 4) * r
             blade = box((0, 0, ln / 2), (0.3 * r, 0.03 * r, ln))
-            blade.apply_transform(trimesh.transformations.rotation_matrix(rng.uniform(0.1, 0.5), (-np.sin(a), np.cos(a), 0)))
+            lean = trimesh.transformations.rotation_matrix(rng.uniform(0.1, 0.5), (-np.sin(a), np.cos(a), 0))
+            blade.apply_transform(lean)
             parts.append(blade.apply_translation((0, 0, ph)))
     else:  # a trunk and a cone of foliage
         th = rng.uniform(1.0, 2.0) * r
@@ -138,7 +139,8 @@ def airplane(rng, wings, tail, st):  # wings: straight, swept, delta | tail: pla
     sweep, chord = {0: (0.05 * L, 0.15 * L), 1: (0.3 * L, 0.15 * L), 2: (0.45 * L, 0.5 * L)}[wings]
     w = wing(span, chord, sweep, z, 0.05 * r)
     parts.append(w.apply_translation((0.2 * L if wings < 2 else 0.3 * L, 0, 0)))
-    fin = extrude(Polygon([(0, 0), (-0.15 * L, 0), (-0.2 * L, 0.2 * L), (-0.12 * L, 0.2 * L)]), 0.04 * r, (0, 0, 0), axis=1)
+    fin = extrude(Polygon([(0, 0), (-0.15 * L, 0), (-0.2 * L, 0.2 * L), (-0.12 * L, 0.2 * L)]), 0.04 * r,
+                  (0, 0, 0), axis=1)
     tx = -0.32 * L
     if tail == 2:  # twin fins on a tailplane
         parts.append(wing(0.35 * span, 0.1 * L, 0.05 * L, z, 0.04 * r).apply_translation((tx + 0.1 * L, 0, 0)))
@@ -148,7 +150,8 @@ def airplane(rng, wings, tail, st):  # wings: straight, swept, delta | tail: pla
         parts += [fin.apply_translation((tx + 0.15 * L, 0, z)),
                   wing(0.35 * span, 0.1 * L, 0.05 * L, zt, 0.04 * r).apply_translation((tx + 0.1 * L, 0, 0))]
     if rng.random() < 0.5:  # engines under the wings
-        parts += [cylinder((0.1 * L, sy * span / 4, 0.3 * r), 0.35 * r, 0.15 * L, st.sections, axis=0) for sy in (-1, 1)]
+        parts += [cylinder((0.1 * L, sy * span / 4, 0.3 * r), 0.35 * r, 0.15 * L, st.sections, axis=0)
+                  for sy in (-1, 1)]
     return parts
 
 
@@ -156,7 +159,8 @@ def guitar(rng, body, head, st):  # body: two lobes, round, V | head: straight, 
     b, t = rng.uniform(0.3, 0.4), rng.uniform(0.06, 0.11)
     if body == 0:
         outline = unary_union([Point(0, 0.28 * b).buffer(0.28 * b), Point(0, 0.7 * b).buffer(0.22 * b),
-                               Polygon([(-0.2 * b, 0.3 * b), (0.2 * b, 0.3 * b), (0.15 * b, 0.7 * b), (-0.15 * b, 0.7 * b)])])
+                               Polygon([(-0.2 * b, 0.3 * b), (0.2 * b, 0.3 * b), (0.15 * b, 0.7 * b),
+                                        (-0.15 * b, 0.7 * b)])])
     elif body == 1:
         outline = affinity.scale(Point(0, 0.45 * b).buffer(0.45 * b), 0.8, 1)
     else:
