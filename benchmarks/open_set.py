@@ -18,7 +18,7 @@ Known objects are the dataset's test split; unknown ones the generated `unknowns
 styles (datasets/unknowns.py). The operating point of each score is chosen on validation only:
 the dataset's val split (a seeded tenth of train) and the unknowns of their val styles, which no
 test object shares. The Mahalanobis Gaussians are fitted, one per step, on the recurrent states
-of a seeded sample of the training split less val. Every episode is evaluate.rollout's (the
+of a seeded sample of the training split less val, and their means are the prototypes. Every episode is evaluate.rollout's (the
 default planner, imitation), from the images alone: the generated unknowns have no real size.
 
 Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of unknown objects
@@ -148,7 +148,8 @@ def main(argv=None):
     ap.add_argument("--planner", default="imitation", help="the planner of every episode (default imitation)")
     ap.add_argument("--fit-objects", type=int, default=FIT_OBJECTS,
                     help=f"training objects the Mahalanobis Gaussians are fitted on (default {FIT_OBJECTS})")
-    ap.add_argument("--shrink", type=float, default=0.1, help="covariance shrinkage toward the identity, in [0, 1]")
+    ap.add_argument("--shrink", type=float, default=open_set.SHRINK,
+                    help=f"covariance shrinkage toward the identity, in [0, 1] (default {open_set.SHRINK})")
     ap.add_argument("--known-rate", type=float, default=0.95,
                     help="share of known validation objects the operating point accepts (default 0.95)")
     ap.add_argument("--out", default=None, help="JSON ('' = none; default docs/results/modelnet10/open_set.json "

@@ -62,6 +62,14 @@ def test_mahalanobis_matches_numpy_on_a_toy_gaussian():
         open_set.Gaussians.fit(x[:10], np.zeros(10, int), 2)
 
 
+def test_prototype_is_the_cosine_distance_to_the_nearest_mean():
+    g = open_set.Gaussians(np.array([[1.0, 0.0], [0.0, 2.0]]), np.eye(2))
+    q = np.array([[3.0, 0.0], [1.0, 1.0], [-1.0, -1e-9], [0.0, 0.0]])
+    brute = [1 - max(v @ m / (np.linalg.norm(v) * np.linalg.norm(m)) for m in g.means) if v.any() else 1.0 for v in q]
+    np.testing.assert_allclose(g.cosine(q), brute, atol=1e-9)
+    assert g.cosine(q)[0] == pytest.approx(0.0) and g.cosine(q)[2] == pytest.approx(1.0)
+
+
 def test_energy_msp_and_running_mean():
     logits = np.array([[1000.0, 999.0, -5.0], [0.0, 0.0, 0.0]])  # large ones must not overflow
     np.testing.assert_allclose(open_set.energy(logits),
@@ -79,6 +87,7 @@ def test_scores_of_a_record_are_per_step():
     s = open_set.scores(rec, g)
     assert list(s) == list(open_set.SCORES) and all(v.shape == (30, 4) for v in s.values())
     np.testing.assert_allclose(s["mahalanobis"][:, 2], g[2].score(states[:, 2]))
+    np.testing.assert_allclose(s["prototype_mean"][:, 1], (g[0].cosine(states[:, 0]) + g[1].cosine(states[:, 1])) / 2)
     assert "mahalanobis" not in open_set.scores(rec)
 
 
