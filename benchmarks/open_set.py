@@ -18,8 +18,9 @@ Known objects are the dataset's test split; unknown ones the generated `unknowns
 styles (datasets/unknowns.py). The operating point of each score is chosen on validation only:
 the dataset's val split (a seeded tenth of train) and the unknowns of their val styles, which no
 test object shares. The Mahalanobis Gaussians are fitted, one per step, on the recurrent states
-of a seeded sample of the training split less val, and their means are the prototypes. Every episode is evaluate.rollout's (the
-default planner, imitation), from the images alone: the generated unknowns have no real size.
+of a seeded sample of the training split less val; their means are the prototypes. Every
+episode is evaluate.rollout's (the default planner, imitation), from the images alone: the
+generated unknowns have no real size.
 
 Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of unknown objects
 accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
