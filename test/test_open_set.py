@@ -152,3 +152,36 @@ def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
     for s in open_set.SCORES:  # known accuracy with rejection is at most the closed-set one
         assert last["known_accuracy"][s]["3"] <= record["closed_set_accuracy"]["3"] + 1e-9
         assert last["known_rejected"][s]["3"] in {0, 0.25, 0.5, 0.75, 1.0}
+
+
+def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
+    """sensing.unknown_energy: the same episode ends recognized at 0 (never unknown) and unknown
+    with a threshold below its mean energy; the label and probability stay in the result."""
+    from dataclasses import replace
+
+    from active_recognition.reach import ViewLimits
+    from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+    from active_recognition.simulated_camera import SimulatedCamera
+
+    sim = SimulatedCamera()
+    sim.load(dataset="procedural", split="test", index=0)
+    ends = {}
+    for threshold in (0.0, None, -1000.0):
+        core = ActiveRecognizer(seed=1, limits=ViewLimits(0.0, 90.0))
+        if threshold is None:  # just below this episode's own mean energy
+            threshold = float(np.mean(ends[0.0][1])) - 1e-3
+        core.reset(sensing=replace(SensingConfig(), unknown_energy=threshold))
+        obs = None
+        while not core.done:
+            obs = core.observe(sim.capture(*core.requested_pose(sim.k))[0], sim.k)
+            assert obs.status in ("classified", "recognized", "unknown")
+        ends[threshold] = obs, list(core.energies)
+    (known, energies), *others = ends.values()
+    assert known.status == "recognized" and len(energies) == known.views
+    for obs, same in others:
+        assert obs.status == "unknown" and same == pytest.approx(energies)
+        result = obs.result()
+        assert result["status"] == "unknown" and result["label"] == known.label == obs.label
+        assert result["probability"] == pytest.approx(float(known.probs.max())) and result["views"] == known.views
+    with pytest.raises(InputError, match="unknown_energy"):
+        SensingConfig(unknown_energy=1.0)
