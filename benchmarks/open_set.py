@@ -83,6 +83,14 @@ def operating(val_known, test_known, test_unknown, ro, rate):
     return out
 
 
+def by_kind(run, score, thresholds):
+    """{kind: share of its unknown objects answered unknown} at the last of the views thresholded."""
+    ro, scores = run
+    k = max(int(v) for v in thresholds)
+    flagged = scores[score][:, k - 1] > thresholds[str(k)]
+    return {kind: r4(flagged[ro.labels == i].mean()) for i, kind in enumerate(ro.classes) if (ro.labels == i).any()}
+
+
 def run(args):
     path = checkpoint.model_path(args.checkpoint, args.dataset)
     cfg = EvalConfig(checkpoint=str(path), dataset=args.dataset, root=args.root, split="test",
@@ -119,6 +127,7 @@ def run(args):
               "val_auroc": val_auroc, "chosen": chosen,
               "closed_set_accuracy": {str(k): r4(ro.accuracy()[k - 1]) for k in VIEWS if k <= args.steps}}
     record |= operating(sc["known_val"], sc["known_test"], sc["unknown_test"], ro, args.known_rate)
+    record["unknown_flagged_by_kind"] = by_kind(runs["unknown_test"], chosen, record["operating_point"][chosen])
     print_tables(record, args.steps)
     if args.out != "":
         write_json(Path(args.out), record)
@@ -139,6 +148,7 @@ def print_tables(record, steps):
                  for k in ("known_rejected", "unknown_flagged", "known_accuracy")]
         print(f"{s:<18}" + "  ".join(" / ".join(cells[i:i + 3]) for i in range(0, len(cells), 3)))
     print(f"closed-set accuracy {record['closed_set_accuracy']}; chosen on val: {record['chosen']}")
+    print(f"{record['chosen']}: unknown objects answered unknown, by kind: {record['unknown_flagged_by_kind']}")
 
 
 def main(argv=None):

@@ -140,6 +140,8 @@ def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
 
     from conftest import load_benchmark
 
+    from active_recognition.datasets.unknowns import KINDS
+
     out = tmp_path / "open_set.json"
     load_benchmark("open_set").main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
                                      "--steps", "3", "--out", str(out)])
@@ -149,6 +151,7 @@ def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
     assert all(0 <= x <= 1 for v in last["fpr95"].values() for x in v)
     record = json.loads(out.read_text())
     assert record["objects"] == {"known_test": 4, "unknown_test": 4, "known_val": 4, "unknown_val": 4, "fit": 20}
+    assert set(record["unknown_flagged_by_kind"]) <= set(KINDS) and record["unknown_flagged_by_kind"]
     for s in open_set.SCORES:  # known accuracy with rejection is at most the closed-set one
         assert last["known_accuracy"][s]["3"] <= record["closed_set_accuracy"]["3"] + 1e-9
         assert last["known_rejected"][s]["3"] in {0, 0.25, 0.5, 0.75, 1.0}
