@@ -129,7 +129,9 @@ def halves(total, seed):
     return np.sort(order[:total // 2]), np.sort(order[total // 2:])
 
 
-def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fixed_path=None):
+def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fixed_path=None, forward=None):
+    """Planner `name` on `objects` from `starts`, in chunks of `chunk` objects (`forward`: what runs
+    the model a step, Episode.forward; open_set.Recorder keeps its logits and states)."""
     initial = cfg.limits.initial_views(50)
     parts = []
     for b in range(0, len(objects), chunk):
@@ -139,7 +141,7 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
                                shapes.labels[idx])
         sizes = shapes.sizes(idx) if cfg.size and model.size_prior is not None else None
         ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
-                     reach=reach_of(cfg.limits))
+                     reach=reach_of(cfg.limits), forward=forward)
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps,
                 size=None if sizes is None else torch.from_numpy(sizes))

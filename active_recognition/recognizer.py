@@ -26,6 +26,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
+from .open_set import energy
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -73,6 +74,11 @@ class SensingConfig:
     use_size: bool = option(True, help=(
         "weigh what object_size says of the class, where the checkpoint carries a size prior "
         "(modelnet10.pt); false when object_size is a guess"))
+    # open_set.py: the score energy_mean; benchmarks/open_set.py measures it and its operating point
+    unknown_energy: float = option(0.0, lo=-1000, hi=0, help=(
+        "an episode whose mean energy over its views (-log sum exp of the logits) ends above this "
+        "ends with status unknown, its best class and probability kept; 0 = never (the operating "
+        "point accepting 95 % of ModelNet10's validation objects: docs/results/modelnet10/open_set.json)"))
 
     def __post_init__(self):
         validate(self)
@@ -80,8 +86,9 @@ class SensingConfig:
 
 @dataclass
 class Observation:
-    # classified (go on), recognized (stopped), empty, moved (another view after an unreachable
-    # one), no_object, no_image or timeout (ended)
+    # classified (go on), recognized (stopped), unknown (stopped on an object of no known class,
+    # sensing.unknown_energy), empty, moved (another view after an unreachable one), no_object,
+    # no_image or timeout (ended)
     status: str
     probs: np.ndarray | None  # (C,); None when the image was not classified
     label: str
@@ -94,8 +101,8 @@ class Observation:
 
     def result(self):
         """The JSON-able result of an episode that has ended (recognition/result)."""
-        found = self.status == "recognized" or (self.status in ("no_image", "timeout")
-                                                and self.probs is not None)
+        found = self.status in ("recognized", "unknown") or (self.status in ("no_image", "timeout")
+                                                             and self.probs is not None)
         return {"status": self.status, "label": self.label if found else "",
                 "probability": float(self.probs.max()) if found else 0.0,
                 "entropy": self.entropy if found else None, "views": self.views}
@@ -140,6 +147,7 @@ class ActiveRecognizer:
         self.empty_views, self.no_object = 0, False
         self.no_image, self.unreachable_run, self.timed_out = False, (None, 0), False
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
+        self.energies = []  # each classified view's energy (open_set.energy of its logits)
         return tuple(float(v) for v in self.episode.view[0])
 
     def standoff(self, k: geometry.Intrinsics | None = None):
@@ -240,12 +248,20 @@ class ActiveRecognizer:
             view = torch.tensor([seen.view], dtype=torch.float32)
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
+        self.energies.append(float(energy(step.logits[0].numpy())))
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
             self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
-        return Observation("recognized" if done else "classified", probs,
+        status = "classified" if not done else "unknown" if self.unknown() else "recognized"
+        return Observation(status, probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
                            done, self.episode.steps, seen.view, seen.object_fraction)
+
+    def unknown(self):
+        """Whether the evidence so far says the object is of none of the classes: the mean energy
+        of its views above sensing.unknown_energy (never where that is 0)."""
+        threshold = self.sensing.unknown_energy
+        return threshold != 0 and bool(self.energies) and float(np.mean(self.energies)) > threshold
 
     @contextmanager
     def threads(self):

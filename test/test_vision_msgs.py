@@ -88,6 +88,32 @@ def test_an_unknown_end_leads_with_unlabeled_and_keeps_the_best_guess():
     assert unlabeled and scores.tolist() == pytest.approx([0.4, 0.6])
 
 
+def test_an_unknown_status_ends_unlabeled_with_the_best_known_class():
+    """The recognizer's end for status unknown (sensing.unknown_energy): the JSON result keeps the
+    best class and its probability, the Classification leads with UNLABELED."""
+    from active_recognition.nodes.recognizer_outputs import Outputs
+    from active_recognition.recognizer import Observation
+
+    sent = {}
+
+    class Publisher:
+        def __init__(self, name):
+            self.name = name
+
+        def publish(self, msg):
+            sent[self.name] = msg
+
+    out = Outputs.__new__(Outputs)  # its publishers without a node
+    out.classes, out.vision = ["a", "b"], True
+    out.pubs = {name: Publisher(name) for name in ("result", "recognition/result/classification")}
+    obs = Observation("unknown", np.array([0.3, 0.7]), "b", 0.61, (0.0, 0.0), True, 4, (0.0, 0.0), 0.5)
+    out.end(obs, Header(frame_id="object"))
+    assert json.loads(sent["result"].data) == {"status": "unknown", "label": "b",
+                                               "probability": pytest.approx(0.7), "entropy": 0.61, "views": 4}
+    msg = sent["recognition/result/classification"]
+    assert [h.class_id for h in msg.results] == [ma.UNLABELED, "a", "b"] and msg.header.frame_id == "object"
+
+
 def test_label_info_maps_ids_to_names_and_reserves_unlabeled():
     msg = ma.label_info(["a", "b"], 0.9)
     assert [(c.class_id, c.class_name) for c in msg.class_map] == [(0, "a"), (1, "b"), (255, ma.UNLABELED)]

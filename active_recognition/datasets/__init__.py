@@ -1,8 +1,8 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, and the embedded benchmarks
-(procedural, twins)."""
+"""Shape datasets: ModelNet, ShapeNetCore, a plain folder, the embedded benchmarks (procedural,
+twins) and the generated objects of no known class (unknowns, for open-set recognition)."""
 from __future__ import annotations
 
 import warnings
@@ -16,10 +16,14 @@ from .modelnet import modelnet
 from .procedural import procedural
 from .shapenet import shapenet
 from .twins import twins
+from .unknowns import unknowns
 from ..validation import InputError
 
 NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
 GENERATED = {"procedural": procedural, "twins": twins}
+# generated objects of no known class (open-set recognition), with a val split of their own
+# styles, not a tenth of train; opened by name like the others, but no model trains on them
+OPEN_SET = {"unknowns": unknowns}
 
 
 SPLITS = ("train", "val", "test", "cross")  # cross: a generated benchmark's held-out styles
@@ -42,11 +46,12 @@ def open_splits(name, root=None, splits=("train", "val"), cache_dir=None, valida
     if bad:
         raise InputError(f"split must be one of {', '.join(SPLITS)}, got {bad[0]!r}")
     read = {}
+    carved = ("train", "val") if name not in OPEN_SET else ()
     for split in splits:
-        source = "train" if split in ("train", "val") else split
+        source = "train" if split in carved else split
         if source not in read:
             read[source] = read_split(name, root, source, cache_dir, validate, **kwargs)
-    return {s: validation_split(copy_of(read["train"]), s) if s in ("train", "val") else read[s]
+    return {s: validation_split(copy_of(read["train"]), s) if s in carved else read[s]
             for s in splits}
 
 
@@ -57,11 +62,12 @@ def copy_of(ds: ShapeDataset):
 
 def read_split(name, root, source, cache_dir=None, validate=True, **kwargs):
     """One of the dataset's own splits (train, test, cross), as its loader reads it."""
-    if name in GENERATED:
+    made = {**GENERATED, **OPEN_SET}
+    if name in made:
         if root:
             raise InputError(f"the {name} dataset is generated: it takes no root folder "
                              f"(got {root}); roots are for modelnet, shapenet and folder")
-        return GENERATED[name](source, cache_dir=cache_dir, **kwargs)
+        return made[name](source, cache_dir=cache_dir, **kwargs)
     loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
     if name not in loaders:
         raise InputError(f"dataset must be one of {', '.join(NAMES)}, got {name!r}")

@@ -35,7 +35,7 @@ def make_shape(label: int, seed: int, held_out=False, style=None):
 
 def shape_seeds(seed: int, per_class: int, split: str, classes=len(CLASSES)):
     """Deterministic (label, seed) list of a split: train and test never share a seed."""
-    offset = {"train": 0, "test": 1, "cross": 2}[split]
+    offset = {"train": 0, "test": 1, "cross": 2, "val": 3}[split]
     ss = np.random.SeedSequence([seed, offset])
     seeds = ss.generate_state(per_class * classes, dtype=np.uint32)
     return [(i // per_class, int(s)) for i, s in enumerate(seeds)]
@@ -46,15 +46,18 @@ PER_CLASS = {"train": 200, "test": 50, "cross": 50}
 SPLITS = tuple(PER_CLASS)  # a generated benchmark also has the cross-style test split
 
 
-def generated(name, classes, make, version, split="train", cache_dir=None, seed=0, per_class=None):
+def generated(name, classes, make, version, split="train", cache_dir=None, seed=0, per_class=None,
+              sizes=None):
     """A generated benchmark as a ShapeDataset: `make(label, seed)` builds each shape; all meshes
-    of a split are cached in one .npz under cache_dir/name."""
+    of a split are cached in one .npz under cache_dir/name. `sizes`: {split: objects per class}
+    (default PER_CLASS), which also names the splits there are."""
     from ..validation import InputError
     from .base import load_npz, save_npz_atomic, ShapeDataset
 
-    if split not in SPLITS:
-        raise InputError(f"split of {name} must be one of {SPLITS}, got {split!r}")
-    per_class = PER_CLASS[split] if per_class is None else int(per_class)
+    sizes = PER_CLASS if sizes is None else sizes
+    if split not in sizes:
+        raise InputError(f"split of {name} must be one of {tuple(sizes)}, got {split!r}")
+    per_class = sizes[split] if per_class is None else int(per_class)
     if per_class < 1:
         raise InputError(f"{name} per_class must be at least 1, got {per_class}")
     specs = shape_seeds(seed, per_class, split, len(classes))

@@ -1,0 +1,181 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""Open-set recognition: how well each score (open_set.py) tells objects of no known class from known ones.
+
+Known objects are the dataset's test split; unknown ones the generated `unknowns` of their test
+styles (datasets/unknowns.py). The operating point of each score is chosen on validation only:
+the dataset's val split (a seeded tenth of train) and the unknowns of their val styles, which no
+test object shares. The Mahalanobis Gaussians are fitted, one per step, on the recurrent states
+of a seeded sample of the training split less val; their means are the prototypes. Every
+episode is evaluate.rollout's (the default planner, imitation), from the images alone: the
+generated unknowns have no real size.
+
+Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of unknown objects
+accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
+the known validation objects after 3, 6 and 9 views, the share of known test objects answered
+unknown, the share of unknown ones answered unknown, and the known accuracy counting an unknown
+answer as wrong. Writes docs/results/modelnet10/open_set.json (a partial run must give --out);
+the last line is JSON.
+
+    python benchmarks/open_set.py --dataset modelnet --root ~/data/ModelNet10 [--objects 50 --out F]
+"""
+import argparse
+from pathlib import Path
+
+import numpy as np
+from common import emit, one_line_errors, output, results_dir
+
+from active_recognition import checkpoint, open_set
+from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
+from active_recognition.datasets.shapes import Shapes
+from active_recognition.evaluate import EvalConfig, checkpoint_split, sample_episodes
+from active_recognition.options import add_flags
+from active_recognition.report import write_json
+from active_recognition.validation import InputError
+
+VIEWS = (3, 6, 9)
+FIT_OBJECTS = 600  # training objects whose states the Gaussians are fitted on
+
+
+def r4(x):
+    return round(float(x), 4)
+
+
+def episodes(planner, model, shapes, objects, cfg):
+    """(Rollout, record of logits and states) of one episode per object, each from a seeded start."""
+    starts = np.random.default_rng(cfg.seed).integers(0, len(cfg.limits.initial_views(50)), len(objects))
+    return open_set.recorded_rollout(planner, model, shapes, np.asarray(objects), starts, cfg)
+
+
+def measure(known, unknown, steps):
+    """{score: AUROC by views}, {score: FPR@95 by views} of known and unknown scores (N, T)."""
+    auroc = {s: [r4(open_set.auroc(known[s][:, t], unknown[s][:, t])) for t in range(steps)] for s in known}
+    fpr = {s: [r4(open_set.fpr_at(known[s][:, t], unknown[s][:, t])) for t in range(steps)] for s in known}
+    return auroc, fpr
+
+
+def operating(val_known, test_known, test_unknown, ro, rate):
+    """At each score's threshold accepting `rate` of the known val objects after k views: its
+    thresholds, and the test's known rejected, unknown flagged and known accuracy (an unknown
+    answer wrong), each {score: {k: share}}."""
+    out = {key: {} for key in ("operating_point", "known_rejected", "unknown_flagged", "known_accuracy")}
+    right = ro.probs.argmax(-1) == ro.labels[:, None]
+    for s in val_known:
+        views = [k for k in VIEWS if k <= ro.probs.shape[1]]
+        thr = {k: open_set.threshold_at(val_known[s][:, k - 1], rate) for k in views}
+        out["operating_point"][s] = {str(k): r4(t) for k, t in thr.items()}
+        out["known_rejected"][s] = {str(k): r4((test_known[s][:, k - 1] > thr[k]).mean()) for k in views}
+        out["unknown_flagged"][s] = {str(k): r4((test_unknown[s][:, k - 1] > thr[k]).mean()) for k in views}
+        out["known_accuracy"][s] = {str(k): r4((right[:, k - 1] & (test_known[s][:, k - 1] <= thr[k])).mean())
+                                    for k in views}
+    return out
+
+
+def by_kind(run, score, thresholds):
+    """{kind: share of its unknown objects answered unknown} at the last of the views thresholded."""
+    ro, scores = run
+    k = max(int(v) for v in thresholds)
+    flagged = scores[score][:, k - 1] > thresholds[str(k)]
+    return {kind: r4(flagged[ro.labels == i].mean()) for i, kind in enumerate(ro.classes) if (ro.labels == i).any()}
+
+
+def run(args):
+    path = checkpoint.model_path(args.checkpoint, args.dataset)
+    cfg = EvalConfig(checkpoint=str(path), dataset=args.dataset, root=args.root, split="test",
+                     steps=args.steps, seed=args.seed, size=False, shared=False)
+    model, classes, test, _ = checkpoint_split(str(path), cfg)
+    parts = open_splits(args.dataset, args.root, ("train", "val"), default_cache_dir())
+    train, val = (Shapes(parts[s], test.camera) for s in ("train", "val"))
+    unknown = {s: Shapes(open_dataset("unknowns", split=s, cache_dir=default_cache_dir()), test.camera)
+               for s in ("val", "test")}
+    fit_n = min(args.fit_objects, len(train))
+    if fit_n < len(classes):
+        raise InputError(f"fit_objects = {args.fit_objects}: the Gaussians need a training object of each of "
+                         f"the {len(classes)} classes")
+    fit_ro, fit_rec = episodes(args.planner, model, train, subset_with_every_class(train.labels, fit_n, args.seed),
+                               cfg)
+    gaussians = open_set.fit_steps(fit_rec["states"], fit_ro.labels, len(classes), args.shrink)
+    runs = {}
+    for name, shapes in (("known_test", test), ("unknown_test", unknown["test"]), ("known_val", val),
+                         ("unknown_val", unknown["val"])):
+        if args.objects > len(shapes):
+            raise InputError(f"objects = {args.objects}, but {name} holds {len(shapes)} (0 = all of them)")
+        objects, _ = sample_episodes(args.objects, len(shapes), 1, args.seed)
+        ro, rec = episodes(args.planner, model, shapes, objects, cfg)
+        runs[name] = ro, open_set.scores(rec, gaussians)
+        print(f"{name}: {len(ro.objects)} objects", flush=True)
+    sc = {name: s for name, (_, s) in runs.items()}
+    auroc, fpr = measure(sc["known_test"], sc["unknown_test"], args.steps)
+    val_auroc, _ = measure(sc["known_val"], sc["unknown_val"], args.steps)
+    chosen = max(val_auroc, key=lambda s: val_auroc[s][-1])  # on validation, at the episode's end
+    ro = runs["known_test"][0]
+    record = {"dataset": args.dataset, "checkpoint": path.name, "planner": args.planner, "size": False,
+              "objects": {name: len(r[0].objects) for name, r in runs.items()} | {"fit": fit_n},
+              "known_rate": args.known_rate, "shrink": args.shrink, "auroc": auroc, "fpr95": fpr,
+              "val_auroc": val_auroc, "chosen": chosen,
+              "closed_set_accuracy": {str(k): r4(ro.accuracy()[k - 1]) for k in VIEWS if k <= args.steps}}
+    record |= operating(sc["known_val"], sc["known_test"], sc["unknown_test"], ro, args.known_rate)
+    record["unknown_flagged_by_kind"] = by_kind(runs["unknown_test"], chosen, record["operating_point"][chosen])
+    print_tables(record, args.steps)
+    if args.out != "":
+        write_json(Path(args.out), record)
+    emit({k: record[k] for k in ("auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy")}
+         | {"chosen": chosen})
+
+
+def print_tables(record, steps):
+    head = "".join(f"{t:>7}" for t in range(1, steps + 1))
+    for key in ("auroc", "fpr95"):
+        print(f"{key} after 1..{steps} views\n{'score':<18}{head}")
+        for s, row in record[key].items():
+            print(f"{s:<18}" + "".join(f"{v:>7.3f}" for v in row))
+    print(f"at the operating point (accepting {record['known_rate']:.0%} of known val objects): "
+          f"known rejected / unknown flagged / known accuracy after {', '.join(map(str, VIEWS))} views")
+    for s in record["known_rejected"]:
+        cells = [f"{record[k][s][v]:.3f}" for v in record["known_rejected"][s]
+                 for k in ("known_rejected", "unknown_flagged", "known_accuracy")]
+        print(f"{s:<18}" + "  ".join(" / ".join(cells[i:i + 3]) for i in range(0, len(cells), 3)))
+    print(f"closed-set accuracy {record['closed_set_accuracy']}; chosen on val: {record['chosen']}")
+    print(f"{record['chosen']}: unknown objects answered unknown, by kind: {record['unknown_flagged_by_kind']}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "objects", "seed", "steps"], dataset={
+        "choices": ("procedural", "modelnet"), "default": "modelnet", "help": "the known objects' dataset"},
+        objects={"help": "seeded sample of each of the four splits' objects (0: all)"})
+    ap.add_argument("--planner", default="imitation", help="the planner of every episode (default imitation)")
+    ap.add_argument("--fit-objects", type=int, default=FIT_OBJECTS,
+                    help=f"training objects the Mahalanobis Gaussians are fitted on (default {FIT_OBJECTS})")
+    ap.add_argument("--shrink", type=float, default=open_set.SHRINK,
+                    help=f"covariance shrinkage toward the identity, in [0, 1] (default {open_set.SHRINK})")
+    ap.add_argument("--known-rate", type=float, default=0.95,
+                    help="share of known validation objects the operating point accepts (default 0.95)")
+    ap.add_argument("--out", default=None, help="JSON ('' = none; default docs/results/modelnet10/open_set.json "
+                                                "for modelnet; a partial run must give it)")
+    args = ap.parse_args(argv)
+    if not 0 < args.known_rate <= 1:
+        ap.error(f"--known-rate must lie in (0, 1], got {args.known_rate}")
+    if not 0 <= args.shrink <= 1:
+        ap.error(f"--shrink must lie in [0, 1], got {args.shrink}")
+    partial = [f for f, on in (("--objects", args.objects), ("--fit-objects", args.fit_objects != FIT_OBJECTS),
+                               ("--seed", args.seed), ("--steps", args.steps != 10)) if on]
+    args.out = output(ap, args.out, str(results_dir(args.dataset) / "open_set.json"), partial)
+    with one_line_errors(ap):  # a bad root or model file: one line, not a traceback
+        run(args)
+
+
+if __name__ == "__main__":
+    main()

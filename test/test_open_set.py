@@ -1,0 +1,190 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The open-set scores and measures against independent reimplementations: Mahalanobis against
+numpy on a toy Gaussian, AUROC against a brute-force pair count, FPR@95 on a hand-made case, and
+the recorder against a plain rollout."""
+import numpy as np
+import pytest
+import torch
+
+from active_recognition import open_set
+from active_recognition.validation import InputError
+
+
+def test_auroc_matches_a_pair_count_with_ties():
+    rng = np.random.default_rng(0)
+    known = rng.integers(0, 6, 40).astype(float)  # few values: many ties
+    unknown = rng.integers(2, 9, 30).astype(float)
+    pairs = [(u > k) + 0.5 * (u == k) for k in known for u in unknown]
+    assert open_set.auroc(known, unknown) == pytest.approx(np.mean(pairs))
+    assert open_set.auroc([0, 1], [2, 3]) == 1.0 and open_set.auroc([2, 3], [0, 1]) == 0.0
+    with pytest.raises(InputError, match="empty"):
+        open_set.auroc([], [1.0])
+
+
+def test_fpr_at_95_on_a_hand_made_case():
+    known = np.arange(1, 21, dtype=float)   # 95 % of 20 accepted: threshold 19
+    unknown = np.array([0.5, 18.5, 19.0, 19.5, 30.0])  # three of five at or below 19
+    assert open_set.threshold_at(known, 0.95) == 19.0
+    assert open_set.fpr_at(known, unknown) == pytest.approx(3 / 5)
+    assert open_set.threshold_at(known, 1.0) == 20.0
+    with pytest.raises(InputError, match="share"):
+        open_set.threshold_at(known, 0.0)
+
+
+def test_mahalanobis_matches_numpy_on_a_toy_gaussian():
+    rng = np.random.default_rng(1)
+    cov = np.array([[2.0, 0.6, 0.0], [0.6, 1.0, 0.3], [0.0, 0.3, 0.5]])
+    means = np.array([[0.0, 0.0, 0.0], [4.0, -1.0, 2.0]])
+    labels = np.repeat([0, 1], 4000)
+    x = means[labels] + rng.multivariate_normal(np.zeros(3), cov, len(labels))
+    g = open_set.Gaussians.fit(x, labels, 2, shrink=0.0)
+    np.testing.assert_allclose(g.precision, np.linalg.inv(cov), atol=0.08)  # the true one, nearly
+    pooled = np.cov(np.concatenate([x[labels == c] - x[labels == c].mean(0) for c in (0, 1)]).T, bias=True)
+    q = rng.normal(size=(5, 3))
+    brute = [[(v - x[labels == c].mean(0)) @ np.linalg.inv(pooled) @ (v - x[labels == c].mean(0)) for c in (0, 1)]
+             for v in q]
+    np.testing.assert_allclose(g.distances(q), brute, rtol=1e-8)
+    np.testing.assert_allclose(g.score(q), np.min(brute, 1), rtol=1e-8)
+    with pytest.raises(InputError, match="class"):
+        open_set.Gaussians.fit(x[:10], np.zeros(10, int), 2)
+
+
+def test_prototype_is_the_cosine_distance_to_the_nearest_mean():
+    g = open_set.Gaussians(np.array([[1.0, 0.0], [0.0, 2.0]]), np.eye(2))
+    q = np.array([[3.0, 0.0], [1.0, 1.0], [-1.0, -1e-9], [0.0, 0.0]])
+    brute = [1 - max(v @ m / (np.linalg.norm(v) * np.linalg.norm(m)) for m in g.means) if v.any() else 1.0 for v in q]
+    np.testing.assert_allclose(g.cosine(q), brute, atol=1e-9)
+    assert g.cosine(q)[0] == pytest.approx(0.0) and g.cosine(q)[2] == pytest.approx(1.0)
+
+
+def test_energy_msp_and_running_mean():
+    logits = np.array([[1000.0, 999.0, -5.0], [0.0, 0.0, 0.0]])  # large ones must not overflow
+    np.testing.assert_allclose(open_set.energy(logits),
+                               [-(1000 + np.log(1 + np.exp(-1) + np.exp(-1005))), -np.log(3)])
+    np.testing.assert_allclose(open_set.msp([[0.7, 0.2, 0.1]]), [0.3])
+    np.testing.assert_allclose(open_set.running_mean([[1.0, 3.0, 8.0]]), [[1.0, 2.0, 4.0]])
+
+
+def test_scores_of_a_record_are_per_step():
+    rng = np.random.default_rng(2)
+    states = rng.normal(size=(30, 4, 5))
+    labels = np.arange(30) % 3
+    rec = {"probs": rng.dirichlet(np.ones(3), (30, 4)), "logits": rng.normal(size=(30, 4, 3)), "states": states}
+    g = open_set.fit_steps(states, labels, 3)
+    s = open_set.scores(rec, g)
+    assert list(s) == list(open_set.SCORES) and all(v.shape == (30, 4) for v in s.values())
+    np.testing.assert_allclose(s["mahalanobis"][:, 2], g[2].score(states[:, 2]))
+    np.testing.assert_allclose(s["prototype_mean"][:, 1], (g[0].cosine(states[:, 0]) + g[1].cosine(states[:, 1])) / 2)
+    assert "mahalanobis" not in open_set.scores(rec)
+
+
+def test_recorder_keeps_the_rollouts_own_logits_and_states():
+    from active_recognition.model import ModelConfig, RecurrentAttention
+
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=3)).eval()
+    rec = open_set.Recorder(model)
+    size = model.config.image_size
+    depth, hidden = torch.rand(2, size, size) * 255, model.init_hidden(2)
+    seen = []
+    for _ in range(3):  # one chunk of 2 objects, 3 steps, no mirror
+        logits, _, hidden = rec(depth, hidden, torch.zeros(2, 2))
+        seen.append((logits, hidden))
+    rec.calls.append(rec.calls[0])
+    with pytest.raises(RuntimeError, match="chunks"):  # 4 calls are no whole chunk of 3 steps
+        rec.record(np.zeros((2, 3, 3)), chunk=2, steps=3, mirror=False)
+    rec.calls.pop()
+    out = rec.record(np.zeros((2, 3, 3)), chunk=2, steps=3, mirror=False)
+    np.testing.assert_allclose(out["logits"][:, 1], seen[1][0].detach().numpy())
+    np.testing.assert_allclose(out["states"][:, 2], seen[2][1].detach().numpy())
+
+
+@pytest.mark.parametrize("readout", ["mean", "mean+mirror"])
+def test_recorded_rollout_agrees_with_its_answers(readout):
+    from active_recognition.datasets import open_dataset
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.evaluate import EvalConfig, sample_episodes
+    from active_recognition.model import ModelConfig, RecurrentAttention
+
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(num_classes=10, readout=readout)).eval()
+    size = model.config.image_size
+    shapes = Shapes(open_dataset("procedural", split="test", per_class=1), CameraConfig(size, size))
+    cfg = EvalConfig(steps=3, shared=False)
+    objects, starts = sample_episodes(4, len(shapes), 1, 0)
+    ro, rec = open_set.recorded_rollout("random", model, shapes, objects, starts, cfg, chunk=3)
+    assert rec["logits"].shape == (4, 3, 10) and rec["states"].shape == (4, 3, model.config.state_size)
+    own = torch.from_numpy(rec["logits"]).softmax(-1).numpy()
+    if readout == "mean":  # the answer is the running mean of the recorded steps' own answers
+        np.testing.assert_allclose(ro.probs, np.cumsum(own, 1) / np.arange(1, 4)[:, None], atol=1e-5)
+    np.testing.assert_allclose(rec["probs"], ro.probs)
+
+
+def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
+    """benchmarks/open_set.py end to end on the procedural benchmark, a few objects of each split."""
+    import json
+
+    from conftest import load_benchmark
+
+    from active_recognition.datasets.unknowns import KINDS
+
+    out = tmp_path / "open_set.json"
+    load_benchmark("open_set").main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
+                                     "--steps", "3", "--out", str(out)])
+    last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert set(last) == {"auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy", "chosen"}
+    assert set(last["auroc"]) == set(open_set.SCORES) and all(len(v) == 3 for v in last["auroc"].values())
+    assert all(0 <= x <= 1 for v in last["fpr95"].values() for x in v)
+    record = json.loads(out.read_text())
+    assert record["objects"] == {"known_test": 4, "unknown_test": 4, "known_val": 4, "unknown_val": 4, "fit": 20}
+    assert set(record["unknown_flagged_by_kind"]) <= set(KINDS) and record["unknown_flagged_by_kind"]
+    for s in open_set.SCORES:  # known accuracy with rejection is at most the closed-set one
+        assert last["known_accuracy"][s]["3"] <= record["closed_set_accuracy"]["3"] + 1e-9
+        assert last["known_rejected"][s]["3"] in {0, 0.25, 0.5, 0.75, 1.0}
+
+
+def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
+    """sensing.unknown_energy: the same episode ends recognized at 0 (never unknown) and unknown
+    with a threshold below its mean energy; the label and probability stay in the result."""
+    from dataclasses import replace
+
+    from active_recognition.reach import ViewLimits
+    from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+    from active_recognition.simulated_camera import SimulatedCamera
+
+    sim = SimulatedCamera()
+    sim.load(dataset="procedural", split="test", index=0)
+    ends = {}
+    for threshold in (0.0, None, -1000.0):
+        core = ActiveRecognizer(seed=1, limits=ViewLimits(0.0, 90.0))
+        if threshold is None:  # just below this episode's own mean energy
+            threshold = float(np.mean(ends[0.0][1])) - 1e-3
+        core.reset(sensing=replace(SensingConfig(), unknown_energy=threshold))
+        obs = None
+        while not core.done:
+            obs = core.observe(sim.capture(*core.requested_pose(sim.k))[0], sim.k)
+            assert obs.status in ("classified", "recognized", "unknown")
+        ends[threshold] = obs, list(core.energies)
+    (known, energies), *others = ends.values()
+    assert known.status == "recognized" and len(energies) == known.views
+    for obs, same in others:
+        assert obs.status == "unknown" and same == pytest.approx(energies)
+        result = obs.result()
+        assert result["status"] == "unknown" and result["label"] == known.label == obs.label
+        assert result["probability"] == pytest.approx(float(known.probs.max())) and result["views"] == known.views
+    with pytest.raises(InputError, match="unknown_energy"):
+        SensingConfig(unknown_energy=1.0)

@@ -1,0 +1,86 @@
+# Copyright 2026 active_recognition maintainers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+
+"""The generated unknown objects: valid closed parts for every kind and style, disjoint styles per
+split, determinism in the seed, and the dataset's own validation split."""
+import itertools
+
+import numpy as np
+import pytest
+import trimesh
+
+from active_recognition.datasets import open_splits
+from active_recognition.datasets.parts import Style
+from active_recognition.datasets.unknowns import (FACTORS, GENERATORS, KINDS, SPLITS, make_unknown, styles,
+                                                  unknowns)
+from active_recognition.validation import InputError
+
+
+@pytest.mark.parametrize("name", KINDS)
+def test_every_style_builds_closed_parts(name):
+    na, nb = FACTORS[name]
+    for a, b in itertools.product(range(na), range(nb)):
+        rng = np.random.default_rng([a, b])
+        parts = GENERATORS[name](rng, a, b, Style.draw(rng))
+        assert parts, (name, a, b)
+        for p in parts:  # each part closed and of positive volume: the whole is watertight-ish
+            assert p.is_watertight and p.volume > 0, (name, a, b)
+
+
+@pytest.mark.parametrize("label", range(len(KINDS)))
+def test_shapes_are_normalised_and_not_flat(label):
+    v, f = make_unknown(label, 7, "test")
+    assert v.dtype == np.float32 and f.dtype == np.int32 and f.max() < len(v)
+    assert np.abs(v).max() <= 0.5 + 1e-6 and np.isclose(np.ptp(v, 0).max(), 1.0, atol=1e-5)
+    mesh = trimesh.Trimesh(v, f, process=False)
+    assert mesh.area > 0 and (np.ptp(v, 0) > 0.02).all()
+
+
+def test_splits_have_disjoint_nonempty_styles():
+    for name in KINDS:
+        got = {s: set(styles(name, s)) for s in SPLITS}
+        assert all(got.values())
+        assert not got["val"] & got["test"] and not got["train"] & (got["val"] | got["test"])
+        assert set.union(*got.values()) == set(itertools.product(*map(range, FACTORS[name])))
+
+
+def test_styles_differ_between_kinds_and_are_seeded():
+    assert len({tuple(styles(n, "test")) for n in KINDS}) > 1  # dealt per kind, not one pattern
+    assert styles("lamp", "val") == styles("lamp", "val")
+
+
+def test_seeded_determinism_and_splits_apart():
+    a, b = unknowns("val", per_class=2), unknowns("val", per_class=2)
+    for i in range(len(a)):
+        assert all(np.array_equal(x, y) for x, y in zip(a.mesh(i), b.mesh(i)))
+    other = unknowns("val", per_class=2, seed=1)
+    assert not np.array_equal(a.mesh(0)[0], other.mesh(0)[0])
+    test = unknowns("test", per_class=2)
+    assert {s for s, _ in a.items}.isdisjoint(s for s, _ in test.items)
+    assert list(a.labels()) == [k for k in range(len(KINDS)) for _ in range(2)]
+
+
+def test_open_splits_keeps_its_own_validation_split(tmp_path):
+    parts = open_splits("unknowns", None, ("train", "val", "test"), tmp_path, per_class=1)
+    assert [len(parts[s]) for s in SPLITS] == [len(KINDS)] * 3
+    assert parts["val"].split == "val" and (tmp_path / "unknowns").is_dir()
+    again = open_splits("unknowns", None, ("val",), tmp_path, per_class=1)["val"]  # from the cache
+    assert np.array_equal(again.mesh(3)[0], parts["val"].mesh(3)[0])
+
+
+def test_bad_split_and_kind_are_refused():
+    with pytest.raises(InputError, match="split of unknowns"):
+        unknowns("cross")
+    with pytest.raises(InputError, match="kind"):
+        styles("toaster", "val")
