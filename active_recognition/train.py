@@ -196,28 +196,34 @@ class Trainer:
         gc.collect()
 
     def epoch(self, stage, epoch, epochs, net, opt):
-        cfg, s = self.cfg, STAGES.index(stage)
+        cfg = self.cfg
         todo = batches(len(self.shapes), cfg.batch_size, cfg.seed, stage, epoch, self.rank, self.world)
         bar = tqdm(range(self.state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
                    disable=not self.progress or self.rank != 0, file=sys.stderr, leave=False)
         losses, accs = list(self.state.get("losses", [])), list(self.state.get("accs", []))  # kept by a resume
         for b in bar:
-            rng = np.random.default_rng([cfg.seed, s, epoch, b, self.rank])
-            torch.manual_seed(int(rng.integers(2 ** 31)))
-            loss, acc = self.batch_loss(stage, net, todo[b], rng)
-            where = f"{stage} epoch {epoch + 1}, batch {b + 1} (step {self.state['step'] + 1})"
-            checkpoint.stop_if_diverged(self.model, where, self.ckpt_path, self.saved, loss.item())
-            opt.zero_grad()
-            loss.backward()
-            set_lr(opt, lr_factor(cfg.lr_schedule, epoch * len(todo) + b, epochs * len(todo)))
-            opt.step()
-            losses.append(loss.item())
-            accs.append(acc.item())
+            loss, acc = self.train_step(stage, epoch, epochs, b, todo, net, opt)
+            losses.append(loss)
+            accs.append(acc)
             bar.set_postfix(loss=f"{np.mean(losses[-20:]):.3f}", acc=f"{np.mean(accs[-20:]):.3f}")
             self.state.update(batch=b + 1, step=self.state["step"] + 1, losses=losses, accs=accs)
             if self.state["step"] % cfg.checkpoint_every == 0:
                 self.save_state(opt)
         return losses, accs
+
+    def train_step(self, stage, epoch, epochs, b, todo, net, opt):
+        """Batch b of todo (batches of shape indices), its loss stepped by opt: (loss, accuracy)."""
+        cfg = self.cfg
+        rng = np.random.default_rng([cfg.seed, STAGES.index(stage), epoch, b, self.rank])
+        torch.manual_seed(int(rng.integers(2 ** 31)))
+        loss, acc = self.batch_loss(stage, net, todo[b], rng)
+        where = f"{stage} epoch {epoch + 1}, batch {b + 1} (step {self.state['step'] + 1})"
+        checkpoint.stop_if_diverged(self.model, where, self.ckpt_path, self.saved, loss.item())
+        opt.zero_grad()
+        loss.backward()
+        set_lr(opt, lr_factor(cfg.lr_schedule, epoch * len(todo) + b, epochs * len(todo)))
+        opt.step()
+        return loss.item(), acc.item()
 
     def loc_round(self, stage, epoch, epochs, net, opt):
         """Stage loc's epoch, a DAgger round: episodes on this rank's training shapes, then
