@@ -28,7 +28,7 @@ from .validation import InputError
 
 MISS = 255.0
 GRADIENT_RULES = ("paper", "surface")
-_POOL = ThreadPoolExecutor(max_workers=2)  # embree releases the GIL: two cores, two traces
+_POOL = ThreadPoolExecutor(max_workers=1)  # embree releases the GIL: this thread and one more
 # One embree device for every scene: a device per scene crashes after a few thousand meshes.
 _DEVICE = rtcore.EmbreeDevice()
 
@@ -272,14 +272,54 @@ class DepthCamera:
         return (dD * scale[:, None]).transpose(0, 2, 1)                        # (B, N, 2)
 
 
+def both_cores(fn, items):
+    """[fn(x) for x in items], the first half on the pool's thread while this one does the rest:
+    embree casts rays without the GIL, so two halves take both cores with one hand-off (a
+    hand-off per item cost more than it gained)."""
+    items = list(items)
+    if len(items) < 2:
+        return [fn(x) for x in items]
+    first = _POOL.submit(lambda part: [fn(x) for x in part], items[:(len(items) + 1) // 2])
+    rest = [fn(x) for x in items[(len(items) + 1) // 2:]]
+    return first.result() + rest
+
+
 def trace_all(cameras, views):
-    """Trace views[i] (2,) with cameras[i], two at a time: a list of one-view Hits."""
+    """Trace views[i] (2,) with cameras[i] on both cores: a list of one-view Hits."""
     views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
     if len(cameras) != len(views):
         raise InputError(f"{len(cameras)} cameras for {len(views)} views")
-    if len(cameras) == 1:
-        return [cameras[0].trace(views[0])]
-    return list(_POOL.map(lambda cv: cv[0].trace(cv[1]), zip(cameras, views)))
+    return both_cores(lambda cv: cv[0].trace(cv[1]), zip(cameras, views))
+
+
+def render_batch(cameras, views):
+    """Normalised depth (sum of B_i, H, W) of cameras[i] rendered at views[i] ((B_i, 2) each, or
+    one (B, 2) set for all), on both cores."""
+    if len(views) and np.ndim(views[0]) == 1:
+        views = [views] * len(cameras)
+    return np.concatenate(both_cores(lambda cv: cv[0].render(cv[1]), zip(cameras, views)))
+
+
+class KnownViews:
+    """A camera whose renders at some views are known already (imitation's candidates, each
+    episode's every view): a trace at one of them is a look-up, any other view is cast."""
+
+    def __init__(self, camera, views, depth):
+        self.camera, self.depth = camera, depth  # depth (K, H, W) rendered at views (K, 2)
+        self.known = {tuple(v): k for k, v in enumerate(np.asarray(views, dtype=np.float32))}
+
+    def trace(self, view):
+        k = self.known.get(tuple(np.asarray(view, dtype=np.float32).ravel()))
+        return k if k is not None else self.camera.trace(view)
+
+    def render_hits(self, hits):
+        return self.depth[hits][None] if isinstance(hits, int) else self.camera.render_hits(hits)
+
+
+def float32_views(views):
+    """views (K, 2) rounded to float32 as an episode holds them (float64): a render there is the
+    one an episode's view asks for, bit for bit."""
+    return np.asarray(views, dtype=np.float32).astype(np.float64)
 
 
 class _RenderViews(torch.autograd.Function):

@@ -22,7 +22,7 @@ import torch
 from torch import nn
 from tqdm import tqdm
 
-from . import checkpoint, size_prior
+from . import checkpoint, depth_layer, size_prior
 from .datasets import default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
@@ -249,8 +249,7 @@ class Trainer:
             return net(cams, self.starts[rng.integers(0, len(self.starts), len(idx))], y)
         k = self.cfg.views_per_shape
         views = [self.limits.random_views(rng, k) for _ in cams]
-        depth = self.augment.images(torch.from_numpy(np.concatenate(
-            [c.render(v) for c, v in zip(cams, views)])))
+        depth = self.augment.images(torch.from_numpy(depth_layer.render_batch(cams, views)))
         views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=self.device)
         return net(depth.to(self.device), y.repeat_interleave(k), views)
 

@@ -68,8 +68,7 @@ class Clock:
 def instrument(clock):
     """Time every render (scene builds, ray casts, depth), augmentation, loss forward, backward."""
     for name in ("trace_all", "render_batch"):
-        if hasattr(depth_layer, name):
-            clock.patch(depth_layer, name, "render")
+        clock.patch(depth_layer, name, "render")
     for name in ("__init__", "trace", "render_hits"):
         clock.patch(depth_layer.DepthCamera, name, "render")
     clock.patch(augment.Augment, "transform", "augment")
