@@ -26,7 +26,7 @@ from . import checkpoint, depth_layer, size_prior
 from .datasets import default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
-from .devices import distributed, resolve_device
+from .devices import distributed, resolve_device, training_layout
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
@@ -92,7 +92,7 @@ class Trainer:
                 else "(leave out --resume to start afresh)"))
         self.load_data()
         self.mcfg = replace(cfg.model, num_classes=len(self.classes))
-        self.model = RecurrentAttention(self.mcfg).to(self.device)
+        self.model = training_layout(RecurrentAttention(self.mcfg).to(self.device), self.device)
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
         self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
         self.size_prior = size_prior.entry(self.shapes, len(self.classes))  # once: every checkpoint holds it

@@ -120,13 +120,19 @@ def matmul_flops(device, n=1024, repeat=20):
 
 
 def breakdown(trainer, stage, wrapper, steps, clock):
-    """Median seconds of a step of `stage` and each share's median, its FLOPs per step."""
+    """Median seconds of a step of `stage` and each share's median, its FLOPs per step, and the
+    seconds a shape's scene took to build (once a run: not in the steps)."""
     from active_recognition.train import batches
     cfg = trainer.cfg
     opt = trainer.optimizer(stage)
     clock.patch(opt, "step", "optimizer")
     clock.patch(opt, "zero_grad", "optimizer")
     todo = batches(len(trainer.shapes), cfg.batch_size, cfg.seed, stage, 0, 0, 1)
+    # every shape's scene is built once, in the first epoch; later epochs, timed here, find it
+    start, shapes = time.perf_counter(), np.concatenate(todo[:steps + 1])
+    for cam in trainer.shapes.cameras(shapes):
+        cam.render(np.array([[1.0, 0.5]]))  # embree builds a scene's hierarchy on its first cast
+    build = (time.perf_counter() - start) / len(shapes)
     encoder = EncoderInputs(trainer.model.encoder)
     with FlopCounterMode(display=False) as flops:  # a warm-up step, its FLOPs counted
         trainer.train_step(stage, 0, 1, 0, todo, wrapper, opt)
@@ -145,4 +151,4 @@ def breakdown(trainer, stage, wrapper, steps, clock):
                      "optimizer": t.get("optimizer", 0.0),
                      "data": total - sum(t.values())})
     med = {k: float(np.median([r[k] for r in rows])) for k in rows[0]}
-    return med, flops.get_total_flops()
+    return med, flops.get_total_flops(), build

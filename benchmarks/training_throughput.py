@@ -120,20 +120,21 @@ def recipe(args):
     with tempfile.TemporaryDirectory() as out:
         cfg = preset_config(args.config or RECIPE, {"dataset": args.dataset, "root": args.root,
                                                     "out": out, "device": args.device})
+        instrument(clock)  # first: the trainer keeps bound methods (its corrupt: Augment.images)
         trainer = Trainer(cfg, progress=False)
-        instrument(clock)
         result = {"config": str(args.config or RECIPE.name), "dataset": cfg.dataset,
                   "batch_size": cfg.batch_size, "batches_per_epoch": len(trainer.shapes) // cfg.batch_size}
         for stage, steps in (("pretrain", args.steps), ("joint", args.joint_steps)):
             wrapper = (losses.PretrainLoss(trainer.model) if stage == "pretrain"
                        else joint_loss(cfg, trainer.model, trainer.corrupt))
-            med, flops = breakdown(trainer, stage, wrapper, steps, clock)
+            med, flops, build = breakdown(trainer, stage, wrapper, steps, clock)
             net = med["encoder"] + med["recurrent_heads"]
             result.update({f"{stage}_step_s": med["step"],
                            f"{stage}_epoch_s": med["step"] * result["batches_per_epoch"],
                            **{f"{stage}_share_{k}": med[k] / med["step"] for k in SHARES},
                            f"{stage}_network_gflop_per_step": flops / 1e9,
-                           f"{stage}_network_gflops": flops / net / 1e9 if net else 0.0})
+                           f"{stage}_network_gflops": flops / net / 1e9 if net else 0.0,
+                           "scene_build_ms_per_shape": build * 1e3})
             print(f"{stage}: {med['step']:.3f} s a step = " + " + ".join(
                 f"{k} {med[k]:.3f}" for k in SHARES) + f"; network {flops / 1e9:.1f} GFLOP")
     peak = matmul_flops(device)
