@@ -144,11 +144,16 @@ class ImitationLoss(nn.Module, Planner):
         """(B,) index of the best unvisited candidate for each object (the teacher's choice)."""
         return teacher_choice(self.model, cand_features, hidden, labels, self.candidates, visited)
 
-    def forward(self, cameras, views, labels):
+    def candidate_depth(self, cameras):
+        """(B, K, H, W) renders of every candidate view of each camera, at the views (float32)
+        an episode holds, so its steps look them up (Trainer.inputs may make them ahead)."""
+        clean = depth_layer.render_batch(cameras, depth_layer.float32_views(self.candidates))
+        return clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
+
+    def forward(self, cameras, views, labels, clean=None):
         model, k = self.model, len(self.candidates)
-        with torch.no_grad():  # rendered where the episode's views will be: its steps look them up
-            clean = depth_layer.render_batch(cameras, depth_layer.float32_views(self.candidates))
-            clean = clean.reshape(len(cameras), k, *clean.shape[1:])                   # (B, K, H, W)
+        clean = self.candidate_depth(cameras) if clean is None else clean
+        with torch.no_grad():
             depth = self.corrupt(torch.from_numpy(clean))
             feats = model.features(depth.flatten(0, 1).to(labels.device))
         self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
