@@ -28,7 +28,7 @@ from .validation import InputError
 
 MISS = 255.0
 GRADIENT_RULES = ("paper", "surface")
-_POOL = ThreadPoolExecutor(max_workers=1)  # embree releases the GIL: this thread and one more
+_POOL = ThreadPoolExecutor(max_workers=2)  # embree casts without the GIL: a worker per caller (--prefetch: 2)
 # One embree device for every scene: a device per scene crashes after a few thousand meshes.
 _DEVICE = rtcore.EmbreeDevice()
 
