@@ -116,7 +116,7 @@ def recipe(args):
     """Steps of a training recipe, pre-training and joint: their time and its shares."""
     device = torch.device(args.device)
     clock = Clock(device)
-    load = os.getloadavg()[0]
+    load, early = os.getloadavg()[0], matmul_flops(device)
     with tempfile.TemporaryDirectory() as out:
         cfg = preset_config(args.config or RECIPE, {"dataset": args.dataset, "root": args.root,
                                                     "out": out, "device": args.device})
@@ -137,7 +137,7 @@ def recipe(args):
                            "scene_build_ms_per_shape": build * 1e3})
             print(f"{stage}: {med['step']:.3f} s a step = " + " + ".join(
                 f"{k} {med[k]:.3f}" for k in SHARES) + f"; network {flops / 1e9:.1f} GFLOP")
-    peak = matmul_flops(device)
+    peak = max(matmul_flops(device), early)  # before and after the steps: the load may change
     result["matmul_gflops"] = peak / 1e9
     for stage in ("pretrain", "joint"):
         result[f"{stage}_flop_rate_vs_matmul"] = result[f"{stage}_network_gflops"] * 1e9 / peak
