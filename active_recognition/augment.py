@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from .meshes import normalise, yawed
+from .meshes import normalise, yaw_matrix
 
 MISS = 255.0
 
@@ -75,31 +75,67 @@ class Augment:
     def transform(self, vertices, rng):
         """The mesh's vertices in the frame a robot would give (turned, then off in centre and
         size), and the lower corner of the crop box (its bottom raised by the floor cut)."""
+        v, lo, _ = self.draw(vertices, rng)
+        return v, lo
+
+    def draw(self, vertices, rng):
+        """`transform`'s draw, with the map it is: (vertices', lo, (A, b)), vertices' = vertices
+        A^T + b. Every step is affine, so a depth camera can cast its rays into the mesh's own
+        frame instead of building a scene around the moved copy (`camera`'s base)."""
         v = np.asarray(vertices, dtype=np.float64)
+        a, b = np.eye(3), np.zeros(3)
+
+        def then(m, t=0.0):  # v -> v m + t (row vectors), composed into (a, b)
+            nonlocal a, b
+            a, b = m.T @ a, b @ m + t
+
+        def refit():  # normalise's own centring and scale, taken from v's box
+            lo, hi = v.min(0), v.max(0)
+            size = float((hi - lo).max())
+            then(np.eye(3) / size, -(lo + hi) / 2 / size)
+            return normalise(v)
+
         if self.mirror and rng.random() < self.mirror:
             v = v * [-1.0, 1.0, 1.0]
+            then(np.diag([-1.0, 1.0, 1.0]))
         if self.stretch > 0:
-            v = normalise(v * np.exp(rng.uniform(-1, 1, 3) * np.log1p(self.stretch)))
+            scale = np.exp(rng.uniform(-1, 1, 3) * np.log1p(self.stretch))
+            v = v * scale
+            then(np.diag(scale))
+            v = refit()
         if self.yaw:
-            v = yawed(v, rng.uniform(-1, 1) * np.radians(self.yaw_range))
+            turn = yaw_matrix(rng.uniform(-1, 1) * np.radians(self.yaw_range))
+            v = v @ turn
+            then(turn)
+            v = refit()
         if self.frame_error > 0:
             d = rng.standard_normal(3)
             off = rng.uniform(0, self.frame_error) * d / np.linalg.norm(d)
             believed = 1 + rng.uniform(-self.frame_error, self.frame_error)
             v = (v - off) / believed  # the object seen in the detector's (wrong) unit box
+            then(np.eye(3) / believed, -off / believed)
         lo = np.full(3, -0.5 - self.box_margin)
         if self.floor_cut > 0:
             lo[2] = max(lo[2], v[:, 2].min() + rng.uniform(0, self.floor_cut) * np.ptp(v[:, 2]))
-        return v, lo
+        return v, lo, (a, b)
 
-    def camera(self, vertices, faces, config, rng):
+    def camera(self, vertices, faces, config, rng, base=None):
         """A DepthCamera around one augmented copy of a normalised mesh, cropped like the
         recognizer's reprojection crops (hits outside the box are misses, as the points that
-        the reprojection drops leave empty pixels)."""
+        the reprojection drops leave empty pixels). With `base` (a DepthCamera of that mesh) the
+        copy is `base` posed by the draw's map (no scene built; the box's corners stand for the
+        vertices where no yaw needs them all), else a camera around the moved vertices."""
         from .depth_layer import DepthCamera
-        v, lo = self.transform(vertices, rng)
-        cam = DepthCamera(v, faces, config)
-        cam.crop = (lo.astype(np.float32), np.full(3, 0.5 + self.box_margin, np.float32))
+        high = np.full(3, 0.5 + self.box_margin, np.float32)
+        if base is None:
+            v, lo = self.transform(vertices, rng)
+            cam = DepthCamera(v, faces, config)
+        else:
+            v = np.asarray(vertices)
+            points = v if self.yaw else np.stack(np.meshgrid(*zip(v.min(0), v.max(0)), indexing="ij"), -1)
+            _, lo, (a, b) = self.draw(points.reshape(-1, 3), rng)
+            cam = base.posed(a, b)
+        cam.crop = (lo.astype(np.float32), high)
         return cam
 
     def images(self, depth: torch.Tensor, generator: torch.Generator | None = None):

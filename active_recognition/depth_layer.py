@@ -12,6 +12,7 @@ intersection differentiated through the face normal: the true first-order deriva
 """
 from __future__ import annotations
 
+import copy
 import functools
 import math
 from concurrent.futures import ThreadPoolExecutor
@@ -27,7 +28,7 @@ from .validation import InputError
 
 MISS = 255.0
 GRADIENT_RULES = ("paper", "surface")
-_POOL = ThreadPoolExecutor(max_workers=2)  # embree releases the GIL: two cores, two traces
+_POOL = ThreadPoolExecutor(max_workers=2)  # embree casts without the GIL: a worker per caller (--prefetch: 2)
 # One embree device for every scene: a device per scene crashes after a few thousand meshes.
 _DEVICE = rtcore.EmbreeDevice()
 
@@ -86,7 +87,13 @@ class Hits:
     origins: np.ndarray     # (B, 3) camera positions
     rotations: np.ndarray   # (B, 3, 3) view rotations (t = 0 frame -> world)
     distance: np.ndarray    # (B, N) ray length to the hit, inf on a miss
-    normals: np.ndarray     # (B, N, 3) unnormalised face normals (0 on a miss)
+    normals: np.ndarray     # (B, N, 3) unnormalised face normals (0 on a miss), in the mesh's frame
+    normal_map: np.ndarray | None = None  # (3, 3) that brings them to the world's (a posed camera)
+
+    def world_normals(self):
+        """The face normals in the world's frame (B, N, 3) (a product per view: numpy's BLAS
+        threads make one (B N, 3) x (3, 3) product crawl)."""
+        return self.normals if self.normal_map is None else self.normals @ self.normal_map.T
 
     @property
     def hit(self):
@@ -129,6 +136,8 @@ class DepthCamera:
             raise InputError("mesh has no faces or face indices outside its vertex list")
         self.config = config
         self.crop = None  # (lo (3,), hi (3,)): only hits inside this box count (augmentation)
+        # posed: (A^-1, b, det(A) A^-T, A's diagonal or None) float32: the mesh seen moved, v -> A v + b
+        self.pose = None
         self.scene = rtcore_scene.EmbreeScene(_DEVICE)
         TriangleMesh(self.scene, vertices, faces)
         if intrinsics is None:  # the same read-only tables for every camera of one config
@@ -145,6 +154,22 @@ class DepthCamera:
     def from_mesh(cls, mesh, config: CameraConfig = CameraConfig()):
         return cls(mesh.vertices, mesh.faces, config)
 
+    def posed(self, a, b):
+        """A camera sharing this one's scene that sees the mesh moved by v -> a v + b (a (3, 3)
+        invertible, b (3,)): each ray is cast into the mesh's own frame (o -> a^-1 (o - b),
+        w -> a^-1 w: the same ray parameter, so the same distances) and each face normal brought
+        back (n -> det(a) a^-T n, as embree's normal of the moved face), so no scene is built.
+        The same hit table as a camera around the moved vertices, to float precision."""
+        a = np.asarray(a, dtype=np.float64)
+        inv = np.linalg.inv(a)
+        cam = copy.copy(self)
+        cam.crop = None
+        inv, shift, normal_map = (np.ascontiguousarray(m, dtype=np.float32) for m in
+                                  (inv, np.asarray(b, dtype=np.float64), np.linalg.det(a) * inv.T))
+        diagonal = np.diag(a).astype(np.float32) if np.count_nonzero(a - np.diag(np.diag(a))) == 0 else None
+        cam.pose = (inv, shift, normal_map, diagonal)
+        return cam
+
     def trace(self, views) -> Hits:
         """Cast the rays of views (B, 2) or (2,) on the sphere: the hit table."""
         views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
@@ -157,24 +182,37 @@ class DepthCamera:
         rotations = np.asarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
         b, n = len(origins), len(self.local_dirs)
         rot32, orig32 = rotations.astype(np.float32), origins.astype(np.float32)
-        if b == 1:  # the common case: one view per camera per step
-            dirs = (rot32[0] @ self._dirs32_t).T            # (N, 3), a view of a (3, N) product
-            # every ray starts at the camera: a read-only stride-0 view, no copy (embree only
-            # reads it; a fresh one per call, so one camera may trace in two threads)
-            orig = np.ndarray((n, 3), np.float32, orig32, 0, (0, orig32.itemsize))
-            orig.flags.writeable = False
-        else:
-            dirs = (rot32 @ self._dirs32_t).transpose(0, 2, 1).reshape(-1, 3)  # (B N, 3)
-            orig = np.repeat(orig32, n, 0)
+        normal_map = None
+        if self.pose is None:
+            orig, dirs = self._rays(rot32, orig32)
+        else:  # the same rays in the mesh's own frame
+            inv, shift, normal_map, diagonal = self.pose
+            orig, dirs = self._rays(inv @ rot32, (orig32 - shift) @ inv.T)
         # embree writes each ray's hit distance into `dists`: inf stays where a ray misses
         out = self.scene.run(orig, dirs, dists=np.full(b * n, np.inf, np.float32), output=1)
         dist, normals = out["tfar"], out["Ng"]
         if self.crop is not None:  # hits outside the box read as misses
             hit = np.flatnonzero(np.isfinite(dist))
+            if self.pose is not None and diagonal is None:  # a turn: the world's own rays
+                orig, dirs = self._rays(rot32, orig32)
             pts = orig[hit] + dirs[hit] * dist[hit, None]
+            if self.pose is not None and diagonal is not None:  # back where the moved mesh is
+                pts = pts * diagonal + shift
             outside = hit[~np.all((pts >= self.crop[0]) & (pts <= self.crop[1]), axis=1)]
             dist[outside], normals[outside] = np.inf, 0
-        return Hits(origins, rotations, dist.reshape(b, n), normals.reshape(b, n, 3))
+        return Hits(origins, rotations, dist.reshape(b, n), normals.reshape(b, n, 3), normal_map)
+
+    def _rays(self, rot32, orig32):
+        """(origins, directions) (B N, 3) float32 of every pixel's ray from poses (B, 3, 3), (B, 3)."""
+        n = len(self.local_dirs)
+        if len(orig32) == 1:  # the common case: one view per camera per step
+            dirs = (rot32[0] @ self._dirs32_t).T            # (N, 3), a view of a (3, N) product
+            # every ray starts at the camera: a read-only stride-0 view, no copy (embree only
+            # reads it; a fresh one per call, so one camera may trace in two threads)
+            orig = np.ndarray((n, 3), np.float32, orig32, 0, (0, orig32.itemsize))
+            orig.flags.writeable = False
+            return orig, dirs
+        return np.repeat(orig32, n, 0), (rot32 @ self._dirs32_t).transpose(0, 2, 1).reshape(-1, 3)
 
     def zdepth(self, hits: Hits) -> np.ndarray:
         """Depth along the optical axis (B, H, W): D f / sqrt(x^2 + y^2 + f^2); inf on a miss."""
@@ -219,7 +257,7 @@ class DepthCamera:
             # X - p = -D w, so dD/dX = (X - p)/D = -w and dD_k = -(R l).do_k = -(do_k R).l
             dD = -((d_orig @ rot).astype(np.float32) @ self._dirs32_t)         # (B, 2, N)
         else:
-            n = np.ascontiguousarray(hits.normals.transpose(0, 2, 1))          # (B, 3, N)
+            n = np.ascontiguousarray(hits.world_normals().transpose(0, 2, 1))  # (B, 3, N)
             mats = np.concatenate([rot[:, None], d_rot], 1).reshape(-1, 9, 3)  # R, dR_theta, dR_phi
             w = (mats.astype(np.float32) @ self._dirs32_t).reshape(-1, 3, 3, n.shape[-1])
             proj = (w * n[:, None]).sum(2)                       # (B, 3, N): n.w, n.dw_theta, n.dw_phi
@@ -234,14 +272,54 @@ class DepthCamera:
         return (dD * scale[:, None]).transpose(0, 2, 1)                        # (B, N, 2)
 
 
+def both_cores(fn, items):
+    """[fn(x) for x in items], the first half on the pool's thread while this one does the rest:
+    embree casts rays without the GIL, so two halves take both cores with one hand-off (a
+    hand-off per item cost more than it gained)."""
+    items = list(items)
+    if len(items) < 2:
+        return [fn(x) for x in items]
+    first = _POOL.submit(lambda part: [fn(x) for x in part], items[:(len(items) + 1) // 2])
+    rest = [fn(x) for x in items[(len(items) + 1) // 2:]]
+    return first.result() + rest
+
+
 def trace_all(cameras, views):
-    """Trace views[i] (2,) with cameras[i], two at a time: a list of one-view Hits."""
+    """Trace views[i] (2,) with cameras[i] on both cores: a list of one-view Hits."""
     views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
     if len(cameras) != len(views):
         raise InputError(f"{len(cameras)} cameras for {len(views)} views")
-    if len(cameras) == 1:
-        return [cameras[0].trace(views[0])]
-    return list(_POOL.map(lambda cv: cv[0].trace(cv[1]), zip(cameras, views)))
+    return both_cores(lambda cv: cv[0].trace(cv[1]), zip(cameras, views))
+
+
+def render_batch(cameras, views):
+    """Normalised depth (sum of B_i, H, W) of cameras[i] rendered at views[i] ((B_i, 2) each, or
+    one (B, 2) set for all), on both cores."""
+    if len(views) and np.ndim(views[0]) == 1:
+        views = [views] * len(cameras)
+    return np.concatenate(both_cores(lambda cv: cv[0].render(cv[1]), zip(cameras, views)))
+
+
+class KnownViews:
+    """A camera whose renders at some views are known already (imitation's candidates, each
+    episode's every view): a trace at one of them is a look-up, any other view is cast."""
+
+    def __init__(self, camera, views, depth):
+        self.camera, self.depth = camera, depth  # depth (K, H, W) rendered at views (K, 2)
+        self.known = {tuple(v): k for k, v in enumerate(np.asarray(views, dtype=np.float32))}
+
+    def trace(self, view):
+        k = self.known.get(tuple(np.asarray(view, dtype=np.float32).ravel()))
+        return k if k is not None else self.camera.trace(view)
+
+    def render_hits(self, hits):
+        return self.depth[hits][None] if isinstance(hits, int) else self.camera.render_hits(hits)
+
+
+def float32_views(views):
+    """views (K, 2) rounded to float32 as an episode holds them (float64): a render there is the
+    one an episode's view asks for, bit for bit."""
+    return np.asarray(views, dtype=np.float32).astype(np.float64)
 
 
 class _RenderViews(torch.autograd.Function):

@@ -14,7 +14,7 @@ import numpy as np
 import torch
 from torch import nn
 
-from . import geometry
+from . import depth_layer, geometry
 from .episode import Episode, EpisodeConfig, Planner, run
 from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
@@ -144,16 +144,23 @@ class ImitationLoss(nn.Module, Planner):
         """(B,) index of the best unvisited candidate for each object (the teacher's choice)."""
         return teacher_choice(self.model, cand_features, hidden, labels, self.candidates, visited)
 
-    def forward(self, cameras, views, labels):
+    def candidate_depth(self, cameras):
+        """(B, K, H, W) renders of every candidate view of each camera, at the views (float32)
+        an episode holds, so its steps look them up (Trainer.inputs may make them ahead)."""
+        clean = depth_layer.render_batch(cameras, depth_layer.float32_views(self.candidates))
+        return clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
+
+    def forward(self, cameras, views, labels, clean=None):
         model, k = self.model, len(self.candidates)
+        clean = self.candidate_depth(cameras) if clean is None else clean
         with torch.no_grad():
-            depth = np.stack([c.render(self.candidates) for c in cameras])          # (B, K, H, W)
-            depth = self.corrupt(torch.from_numpy(depth))
+            depth = self.corrupt(torch.from_numpy(clean))
             feats = model.features(depth.flatten(0, 1).to(labels.device))
         self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      planner=self, reach=reach_of(self.limits))
-        out = run(ep, cameras, views, self.steps, corrupt=self.corrupt)  # plain renders
+        known = [depth_layer.KnownViews(c, self.candidates, d) for c, d in zip(cameras, clean)]
+        out = run(ep, known, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 

@@ -16,17 +16,19 @@ import gc
 import sys
 import time
 from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 import torch
 from torch import nn
 from tqdm import tqdm
 
-from . import checkpoint, size_prior
+from . import checkpoint, depth_layer, size_prior
+from .ahead import Ahead
 from .datasets import default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
-from .devices import distributed, resolve_device
+from .devices import distributed, resolve_device, training_layout
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
@@ -76,6 +78,16 @@ def joint_loss(cfg: TrainConfig, model, corrupt):
                      cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views, limits)
 
 
+class Inputs(NamedTuple):
+    """A batch's inputs that the network does not change (Trainer.inputs)."""
+
+    rng: np.random.Generator
+    torch_seed: int
+    cameras: list
+    views: list | None   # pre-training: (k, 2) views per camera
+    depth: np.ndarray | None  # pre-training's images, or imitation's candidate renders
+
+
 class Trainer:
     """One training run: its data, model, optimiser state, metrics and checkpoints."""
 
@@ -92,7 +104,7 @@ class Trainer:
                 else "(leave out --resume to start afresh)"))
         self.load_data()
         self.mcfg = replace(cfg.model, num_classes=len(self.classes))
-        self.model = RecurrentAttention(self.mcfg).to(self.device)
+        self.model = training_layout(RecurrentAttention(self.mcfg).to(self.device), self.device)
         camera = CameraConfig(self.mcfg.image_size, self.mcfg.image_size, radius=self.mcfg.radius)
         self.shapes, self.val = Shapes(self.train_ds, camera), Shapes(self.val_ds, camera)
         self.size_prior = size_prior.entry(self.shapes, len(self.classes))  # once: every checkpoint holds it
@@ -196,28 +208,52 @@ class Trainer:
         gc.collect()
 
     def epoch(self, stage, epoch, epochs, net, opt):
-        cfg, s = self.cfg, STAGES.index(stage)
+        cfg = self.cfg
         todo = batches(len(self.shapes), cfg.batch_size, cfg.seed, stage, epoch, self.rank, self.world)
         bar = tqdm(range(self.state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
                    disable=not self.progress or self.rank != 0, file=sys.stderr, leave=False)
         losses, accs = list(self.state.get("losses", [])), list(self.state.get("accs", []))  # kept by a resume
+        ahead = Ahead(lambda b: self.inputs(stage, epoch, b, todo[b], net), cfg.prefetch)
         for b in bar:
-            rng = np.random.default_rng([cfg.seed, s, epoch, b, self.rank])
-            torch.manual_seed(int(rng.integers(2 ** 31)))
-            loss, acc = self.batch_loss(stage, net, todo[b], rng)
-            where = f"{stage} epoch {epoch + 1}, batch {b + 1} (step {self.state['step'] + 1})"
-            checkpoint.stop_if_diverged(self.model, where, self.ckpt_path, self.saved, loss.item())
-            opt.zero_grad()
-            loss.backward()
-            set_lr(opt, lr_factor(cfg.lr_schedule, epoch * len(todo) + b, epochs * len(todo)))
-            opt.step()
-            losses.append(loss.item())
-            accs.append(acc.item())
+            loss, acc = self.train_step(stage, epoch, epochs, b, todo, net, opt,
+                                        ahead.get(b, b + 1 if b + 1 < len(todo) else None))
+            losses.append(loss)
+            accs.append(acc)
             bar.set_postfix(loss=f"{np.mean(losses[-20:]):.3f}", acc=f"{np.mean(accs[-20:]):.3f}")
             self.state.update(batch=b + 1, step=self.state["step"] + 1, losses=losses, accs=accs)
             if self.state["step"] % cfg.checkpoint_every == 0:
                 self.save_state(opt)
+        ahead.close()
         return losses, accs
+
+    def train_step(self, stage, epoch, epochs, b, todo, net, opt, inputs=None):
+        """Batch b of todo (batches of shape indices), its loss stepped by opt: (loss, accuracy).
+        `inputs`: the batch's, made ahead (Trainer.inputs), or None to make them now."""
+        inputs = inputs or self.inputs(stage, epoch, b, todo[b], net)
+        torch.manual_seed(inputs.torch_seed)
+        loss, acc = self.batch_loss(stage, net, todo[b], inputs)
+        where = f"{stage} epoch {epoch + 1}, batch {b + 1} (step {self.state['step'] + 1})"
+        checkpoint.stop_if_diverged(self.model, where, self.ckpt_path, self.saved, loss.item())
+        opt.zero_grad()
+        loss.backward()
+        set_lr(opt, lr_factor(self.cfg.lr_schedule, epoch * len(todo) + b, epochs * len(todo)))
+        opt.step()
+        return loss.item(), acc.item()
+
+    def inputs(self, stage, epoch, b, idx, net) -> Inputs:
+        """What batch b (shapes idx) sees that the network does not change: its generator, the
+        seed of torch's, the augmented cameras, and pre-training's views and images or
+        imitation's candidate renders (a thread may make them ahead: nothing here draws from
+        torch's generator)."""
+        rng = np.random.default_rng([self.cfg.seed, STAGES.index(stage), epoch, b, self.rank])
+        seed = int(rng.integers(2 ** 31))
+        cams = self.shapes.cameras(idx, self.augment, rng)
+        if stage == "joint":
+            loss = getattr(net, "module", net)  # under DDP, the loss it wraps
+            return Inputs(rng, seed, cams, None, loss.candidate_depth(cams)
+                          if hasattr(loss, "candidate_depth") else None)
+        views = [self.limits.random_views(rng, self.cfg.views_per_shape) for _ in cams]
+        return Inputs(rng, seed, cams, views, depth_layer.render_batch(cams, views))
 
     def loc_round(self, stage, epoch, epochs, net, opt):
         """Stage loc's epoch, a DAgger round: episodes on this rank's training shapes, then
@@ -234,18 +270,17 @@ class Trainer:
         self.state.update(step=self.state["step"] + 1)
         return [mse], [agree.float().mean().item()]
 
-    def batch_loss(self, stage, net, idx, rng):
+    def batch_loss(self, stage, net, idx, inputs):
         """(loss, accuracy) of one batch: single images of random views (pretrain) or whole
         episodes from one of the 50 initial views (joint)."""
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
-        cams = self.shapes.cameras(idx, self.augment, rng)
         if stage == "joint":
-            return net(cams, self.starts[rng.integers(0, len(self.starts), len(idx))], y)
+            starts = self.starts[inputs.rng.integers(0, len(self.starts), len(idx))]
+            known = () if inputs.depth is None else (inputs.depth,)
+            return net(inputs.cameras, starts, y, *known)
         k = self.cfg.views_per_shape
-        views = [self.limits.random_views(rng, k) for _ in cams]
-        depth = self.augment.images(torch.from_numpy(np.concatenate(
-            [c.render(v) for c, v in zip(cams, views)])))
-        views = torch.as_tensor(np.concatenate(views), dtype=torch.float32, device=self.device)
+        depth = self.augment.images(torch.from_numpy(inputs.depth))
+        views = torch.as_tensor(np.concatenate(inputs.views), dtype=torch.float32, device=self.device)
         return net(depth.to(self.device), y.repeat_interleave(k), views)
 
     def log_epoch(self, stage, epoch, losses, accs):

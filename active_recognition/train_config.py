@@ -83,6 +83,9 @@ class TrainConfig:
     device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N",
                          help="cpu, cuda or cuda:N")
     resume: bool = option(False, help="continue from OUT/last.pt")
+    prefetch: bool = option(False, help=(
+        "make each batch's cameras and renders on a thread while the network works on the batch "
+        "before (the same batches, bit for bit; it pays where a core would idle)"))
     max_shapes: int = option(0, lo=0, help=(
         "train on a seeded subset of this many shapes, each class in it (0: all)"))
     yaw: bool = option(False, help=AUGMENT + (

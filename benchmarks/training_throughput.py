@@ -3,22 +3,35 @@
 
 """Joint-training throughput: 10-step episodes at 64x64, batch 32 as trained, on the procedural
 benchmark; where the time goes (rendering incl. the depth layer's backward, network forward,
-network backward, optimiser). Median over batches; last line is JSON."""
+network backward, optimiser). Median over batches; last line is JSON.
+
+With --dataset modelnet (or --config): steps of a training recipe (config/train_modelnet10.yaml
+by default), pre-training and joint, through the trainer's own step (step_breakdown.py), each
+step's shares (rendering, the imitation's candidates included; augmentation; the encoder forward
+and backward; the recurrent part and heads; the optimiser; data handling), and the network's
+FLOP rate against torch.matmul's here."""
 import argparse
+import os
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 import torch
-from common import emit
+from common import emit, one_line_errors
+from step_breakdown import Clock, SHARES, breakdown, instrument, matmul_flops
 
-from active_recognition import depth_layer, geometry
+from active_recognition import depth_layer, geometry, losses
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.depth_layer import CameraConfig, GRADIENT_RULES
 from active_recognition.losses import JointLoss
 from active_recognition.model import ModelConfig, RecurrentAttention
 from active_recognition.options import add_flags
-from active_recognition.train_config import TrainConfig
+from active_recognition.train import Trainer, joint_loss
+from active_recognition.train_config import TrainConfig, preset_config
+
+RECIPE = Path(__file__).resolve().parents[1] / "config/train_modelnet10.yaml"
 
 CLOCK = {"render": 0.0}
 
@@ -44,7 +57,16 @@ def main():
     add_flags(ap, TrainConfig, ["batch_size"])
     ap.add_argument("--rule", default="surface", choices=GRADIENT_RULES)
     add_flags(ap, TrainConfig, ["device"], device={"help": "where the network runs (rendering is on the CPU)"})
+    add_flags(ap, TrainConfig, ["dataset", "root"], dataset={
+        "help": "procedural: 10-step episodes of the default model; another (with --root): a recipe's steps"})
+    ap.add_argument("--config", default=None, help=f"the recipe timed (default with a --dataset other "
+                                                   f"than procedural: {RECIPE.name})")
+    ap.add_argument("--steps", type=int, default=6, help="recipe: pre-training steps timed")
+    ap.add_argument("--joint-steps", type=int, default=3, help="recipe: joint steps timed")
     args = ap.parse_args()
+    if args.config or args.dataset != "procedural":
+        with one_line_errors(ap):
+            return recipe(args)
     # time every render and every depth-layer backward (the Jacobian), wherever they are called
     depth_layer.trace_all = timed(depth_layer.trace_all)
     depth_layer.DepthCamera.render_hits = timed(depth_layer.DepthCamera.render_hits)
@@ -88,6 +110,40 @@ def main():
           "share_render": render / total, "share_forward": fwd / total,
           "share_backward": bwd / total, "share_optimizer": step / total,
           "torch_threads": torch.get_num_threads(), "device": args.device})
+
+
+def recipe(args):
+    """Steps of a training recipe, pre-training and joint: their time and its shares."""
+    device = torch.device(args.device)
+    clock = Clock(device)
+    load, early = os.getloadavg()[0], matmul_flops(device)
+    with tempfile.TemporaryDirectory() as out:
+        cfg = preset_config(args.config or RECIPE, {"dataset": args.dataset, "root": args.root,
+                                                    "out": out, "device": args.device})
+        instrument(clock)  # first: the trainer keeps bound methods (its corrupt: Augment.images)
+        trainer = Trainer(cfg, progress=False)
+        result = {"config": str(args.config or RECIPE.name), "dataset": cfg.dataset,
+                  "batch_size": cfg.batch_size, "batches_per_epoch": len(trainer.shapes) // cfg.batch_size}
+        for stage, steps in (("pretrain", args.steps), ("joint", args.joint_steps)):
+            wrapper = (losses.PretrainLoss(trainer.model) if stage == "pretrain"
+                       else joint_loss(cfg, trainer.model, trainer.corrupt))
+            med, flops, build = breakdown(trainer, stage, wrapper, steps, clock)
+            net = med["encoder"] + med["recurrent_heads"]
+            result.update({f"{stage}_step_s": med["step"],
+                           f"{stage}_epoch_s": med["step"] * result["batches_per_epoch"],
+                           **{f"{stage}_share_{k}": med[k] / med["step"] for k in SHARES},
+                           f"{stage}_network_gflop_per_step": flops / 1e9,
+                           f"{stage}_network_gflops": flops / net / 1e9 if net else 0.0,
+                           "scene_build_ms_per_shape": build * 1e3})
+            print(f"{stage}: {med['step']:.3f} s a step = " + " + ".join(
+                f"{k} {med[k]:.3f}" for k in SHARES) + f"; network {flops / 1e9:.1f} GFLOP")
+    peak = max(matmul_flops(device), early)  # before and after the steps: the load may change
+    result["matmul_gflops"] = peak / 1e9
+    for stage in ("pretrain", "joint"):
+        result[f"{stage}_flop_rate_vs_matmul"] = result[f"{stage}_network_gflops"] * 1e9 / peak
+    result.update(torch_threads=torch.get_num_threads(), device=args.device,
+                  load_before=load, load_after=os.getloadavg()[0])
+    emit(result)
 
 
 if __name__ == "__main__":

@@ -48,9 +48,11 @@ class Shapes:
         return np.array(out)
 
     def cameras(self, idx, augment: Augment | None = None, rng=None):
-        if augment is not None and augment.meshes:
-            return [augment.camera(*self.mesh(i), self.camera, rng) for i in idx]
+        """The cameras of shapes idx; with `augment` (and rng) each around a fresh augmented copy
+        of its shape: the shape's own camera posed by the draw (its scene is built once)."""
         for i in idx:
             if i not in self._cams:
                 self._cams[i] = DepthCamera(*self.mesh(i), self.camera)
+        if augment is not None and augment.meshes:
+            return [augment.camera(self.mesh(i)[0], None, self.camera, rng, base=self._cams[i]) for i in idx]
         return [self._cams[i] for i in idx]
