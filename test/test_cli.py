@@ -353,8 +353,10 @@ def test_train_refuses(files, capsys, argv, message):
     (["--starts", "51"], "argument --starts: must be an integer from 1 to 50, got '51'"),
     (["--steps", "0"], "argument --steps: must be an integer from 1 to 100, got '0'"),
     (["--entropy-threshold", "nan"], "argument --entropy-threshold: must be a finite number >= 0"),
-    (["--planners", "psychic"], "planners[0] must be one of learned, random, straight"),
-    (["--planners", ","], "planners[0] must be one of"),
+    (["--planners", "psychic"], "argument --planners: must be one of learned, random, straight"),
+    (["--planners", "random,psychic"], "argument --planners: must be one of learned, random, straight, "
+                                       "reinforce, fixed, imitation, fixed+imitation, oracle, greedy, got 'psychic'"),
+    (["--planners", ","], "argument --planners: must be one of"),
     (["--planners", "random,random"], "planners: random named more than once"),
     (["--planners", "reinforce"], "the reinforce planner needs --reinforce-checkpoint"),
     (["--planners", "imitation"], "the imitation planner needs a model with a view-scoring head"),
