@@ -331,6 +331,7 @@ def test_a_node_that_cannot_start_says_why_in_one_line_and_exits_2(failed_starts
     assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
     errors = [line for line in p.stderr.splitlines() if "error:" in line]
     assert len(errors) == 1 and message in errors[0], p.stderr
+    assert errors[0].startswith(f"{node}: error: "), p.stderr  # the executable's name, as ros2 run says it
 
 
 def test_bad_parameters_at_run_time_are_refused_and_the_node_keeps_its_settings(loop):

@@ -100,9 +100,11 @@ class Throttled:
             self.logger.warn(f"{text} ({self.counts[key]} so far)")
 
 
-def run_node(node_class, args=None):
+def run_node(node_class, args=None, name=None):
     """The standard node main(): init, spin until Ctrl-C or shutdown, clean up. A node that cannot
-    start (a bad parameter, checkpoint or mesh) says why in one line and exits with status 2."""
+    start (a bad parameter, checkpoint or mesh) says why in one line, `NAME: error: ...` (NAME the
+    executable's, as `ros2 run` calls it), and exits with status 2."""
+    prog = name or node_class.__name__
     import rclpy
     from rclpy.exceptions import ParameterException
     from rclpy.executors import ExternalShutdownException
@@ -112,14 +114,14 @@ def run_node(node_class, args=None):
     try:
         rclpy.init(args=args)
     except Exception as e:  # RCLError: a --params-file that is missing or not YAML, a bad --ros-args
-        print(f"{node_class.__name__}: error: {' '.join(str(e).split())}", file=sys.stderr)
+        print(f"{prog}: error: {' '.join(str(e).split())}", file=sys.stderr)
         return 2
     node = None
     try:
         try:
             node = node_class()
         except (InputError, OSError, ParameterException) as e:
-            print(f"{node_class.__name__}: error: {e}", file=sys.stderr)
+            print(f"{prog}: error: {e}", file=sys.stderr)
             return 2
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):

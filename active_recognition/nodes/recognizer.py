@@ -303,7 +303,7 @@ class Recognizer(RecognizerInputs, LifecycleNode):
 
 
 def main(args=None):
-    return run_node(Recognizer, args)
+    return run_node(Recognizer, args, "recognizer")
 
 
 if __name__ == "__main__":
