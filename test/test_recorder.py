@@ -3,6 +3,7 @@
 
 """MCAP recording: complete message definitions, and a recorded demo read back by mcap_ros2."""
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,6 +21,14 @@ import msg_adapters as ma  # noqa: E402
 from active_recognition.nodes.demo import run_demo  # noqa: E402
 from active_recognition.nodes.recorder import TOPICS, check_path, type_name, vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
+
+
+def test_the_ros_page_names_every_topic_a_recording_holds():
+    section = (Path(__file__).parents[1] / "docs" / "ros.md").read_text().split("## Recording and viewing a run")[1]
+    vision = ("recognition/classification", "recognition/result/classification", "recognition/label_info")
+    assert set(vision_topics()) <= set(vision)  # the names below, where vision_msgs can be used
+    for topic in [*TOPICS, *vision]:
+        assert f"`{topic}`" in section, topic
 
 
 def test_a_definition_holds_the_type_and_every_type_it_uses_once():
