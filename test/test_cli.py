@@ -346,6 +346,18 @@ def test_train_refuses(files, capsys, argv, message):
     assert not (files / "fresh_run" / "last.pt").exists()
 
 
+@pytest.mark.parametrize("command", ["render", "dataset", "train", "evaluate", "demo"])
+def test_help_at_80_columns_breaks_no_word(monkeypatch, command):
+    """argparse wraps help at spaces; a word longer than the column (a list joined without
+    spaces) it cuts in two, which reads as two wrong names."""
+    monkeypatch.setenv("COLUMNS", "80")
+    sub = cli.build_parser()._subparsers._group_actions[0].choices[command]
+    shown = set(sub.format_help().split())
+    for action in sub._actions:
+        words = (action.help or "").replace("%%", "%").split()
+        assert all(w in shown for w in words), (action.option_strings, [w for w in words if w not in shown])
+
+
 @pytest.mark.parametrize("argv,message", [
     (["--objects", "-1"], "argument --objects: must be an integer >= 0, got '-1'"),
     (["--objects", "4"], "objects = 4, but the folder test split holds 3 (0 = all of them)"),
