@@ -77,6 +77,13 @@ def test_a_bad_record_path_is_named(tmp_path, path, why):
         check_path(tmp_path / path)
 
 
+def test_the_demo_refuses_a_bad_record_path_before_any_node_starts(tmp_path, monkeypatch):
+    import active_recognition.nodes.demo as demo
+    monkeypatch.setattr(demo, "ros_session", lambda *args: pytest.fail("a ROS session started"))
+    with pytest.raises(ValueError, match="record: .*must be a file name ending in .mcap"):
+        run_demo(objects=1, record=str(tmp_path / "run.txt"), out=lambda line: None)
+
+
 def test_a_recorded_demo_holds_every_message_the_loop_published(tmp_path, monkeypatch):
     published, images = Counter(), {}
     publish = Publisher.publish
