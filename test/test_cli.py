@@ -262,7 +262,7 @@ def test_demo_recognises_an_object_over_ros():
     (["--mesh", "{files}/noise.obj"], "noise.obj: not a text OBJ file"),
     (["--mesh", "{files}/lie.ply"], "lie.ply: header declares 3 vertices and 1000 faces"),
     (["--mesh", "{files}/missing.stl"], "missing.stl: no such file"),
-    (["--mesh", "{files}/a_dir"], "unsupported format ''"),
+    (["--mesh", "{files}/a_dir"], "a_dir: is a directory, not a file"),
     (["--theta", "nan"], "argument --theta: must be a finite number, got 'nan'"),
     (["--phi", "inf"], "argument --phi: must be a finite number, got 'inf'"),
     (["--views", "-3"], "argument --views: must be an integer from 0 to 100, got '-3'"),
