@@ -2,6 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """MCAP recording: complete message definitions, and a recorded demo read back by mcap_ros2."""
+import signal
+import subprocess
+import sys
+import time
 from collections import Counter
 from pathlib import Path
 
@@ -82,6 +86,23 @@ def test_the_demo_refuses_a_bad_record_path_before_any_node_starts(tmp_path, mon
     monkeypatch.setattr(demo, "ros_session", lambda *args: pytest.fail("a ROS session started"))
     with pytest.raises(ValueError, match="record: .*must be a file name ending in .mcap"):
         run_demo(objects=1, record=str(tmp_path / "run.txt"), out=lambda line: None)
+
+
+def test_the_node_stopped_by_ctrl_c_writes_its_recording_and_says_so_cleanly(tmp_path):
+    path = tmp_path / "run.mcap"
+    p = subprocess.Popen([sys.executable, "-m", "active_recognition.nodes.recognizer", "--ros-args",
+                          "-p", f"record:={path}"], stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while not list(tmp_path.glob(".run.mcap.*")) and time.monotonic() < deadline and p.poll() is None:
+            time.sleep(0.2)
+        time.sleep(1.0)  # the timers and subscriptions up
+        p.send_signal(signal.SIGINT)
+        err = p.communicate(timeout=30)[1]
+    finally:
+        p.kill()
+    assert p.returncode == 0 and path.is_file(), err
+    assert "recorded " in err and "Failed to publish" not in err and "Traceback" not in err, err
 
 
 def test_a_recorded_demo_holds_every_message_the_loop_published(tmp_path, monkeypatch):
