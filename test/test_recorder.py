@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """MCAP recording: complete message definitions, and a recorded demo read back by mcap_ros2."""
+import re
 import signal
 import subprocess
 import sys
@@ -97,12 +98,16 @@ def test_the_node_stopped_by_ctrl_c_writes_its_recording_and_says_so_cleanly(tmp
         while not list(tmp_path.glob(".run.mcap.*")) and time.monotonic() < deadline and p.poll() is None:
             time.sleep(0.2)
         time.sleep(1.0)  # the timers and subscriptions up
+        hidden = [f.name for f in tmp_path.glob(".run.mcap.*")]
         p.send_signal(signal.SIGINT)
         err = p.communicate(timeout=30)[1]
     finally:
         p.kill()
     assert p.returncode == 0 and path.is_file(), err
     assert "recorded " in err and "Failed to publish" not in err and "Traceback" not in err, err
+    said = re.search(r"`(\.run\.mcap\.[^`]*\.tmp)`", (Path(__file__).parents[1] / "docs" / "ros.md").read_text())
+    pattern = re.sub(r"<[a-z]+>", r"\\d+", re.escape(said.group(1)))  # <pid> -> digits
+    assert len(hidden) == 1 and re.fullmatch(pattern, hidden[0]), (hidden, said.group(1))  # as ros.md names it
 
 
 def test_a_recorded_demo_holds_every_message_the_loop_published(tmp_path, monkeypatch):
