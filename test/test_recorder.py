@@ -24,6 +24,7 @@ from rclpy.serialization import serialize_message  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition.nodes.demo import run_demo  # noqa: E402
+from active_recognition.nodes.recognizer_outputs import recorded_topics  # noqa: E402
 from active_recognition.nodes.recorder import TOPICS, check_path, type_name, vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 
@@ -32,7 +33,7 @@ def test_the_ros_page_names_every_topic_a_recording_holds():
     section = (Path(__file__).parents[1] / "docs" / "ros.md").read_text().split("## Recording and viewing a run")[1]
     vision = ("recognition/classification", "recognition/result/classification", "recognition/label_info")
     assert set(vision_topics()) <= set(vision)  # the names below, where vision_msgs can be used
-    for topic in [*TOPICS, *vision]:
+    for topic in {*recorded_topics(), *vision}:
         assert f"`{topic}`" in section, topic
 
 
