@@ -90,6 +90,7 @@ def test_the_demo_refuses_a_bad_record_path_before_any_node_starts(tmp_path, mon
         run_demo(objects=1, record=str(tmp_path / "run.txt"), out=lambda line: None)
 
 
+@pytest.mark.slow  # a node process of its own: seconds
 def test_the_node_stopped_by_ctrl_c_writes_its_recording_and_says_so_cleanly(tmp_path):
     path = tmp_path / "run.mcap"
     p = subprocess.Popen([sys.executable, "-m", "active_recognition.nodes.recognizer", "--ros-args",
