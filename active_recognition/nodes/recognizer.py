@@ -306,7 +306,7 @@ class Recognizer(RecognizerInputs, LifecycleNode):
 
 
 def main(args=None):
-    return run_node(Recognizer, args, "recognizer")
+    return run_node(Recognizer, args, "recognizer", PARAMS)
 
 
 if __name__ == "__main__":
