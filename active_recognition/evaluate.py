@@ -39,7 +39,7 @@ class EvalConfig:
     planner_checkpoints: dict = option({}, flag=False, help="planner -> its own model file")
     planners: tuple = option(("learned", "random", "straight", "oracle"), length=(1, None),
                              items=Check(str, choices=PLANNERS),
-                             help=f"comma-separated, from {','.join(PLANNERS)}")
+                             help=f"comma-separated, from {', '.join(PLANNERS)}")
     dataset: str = option("procedural", choices=NAMES, help="dataset layout")
     root: str | None = option(None, kind=str, optional=True, length=(1, None),
                               help="dataset root folder")

@@ -117,10 +117,12 @@ def load_mesh(path, edge=False):
     """
     path = Path(path)
     suffix = path.suffix.lower()
+    if path.is_dir():  # before the suffix: a folder has none, and is no mesh whatever its name
+        raise MeshError(path, "is a directory, not a file")
     if suffix not in SUFFIXES:
         raise MeshError(path, f"unsupported format {suffix!r} (use one of {', '.join(SUFFIXES)})")
     if not path.is_file():
-        raise MeshError(path, "is a directory, not a file" if path.is_dir() else "no such file")
+        raise MeshError(path, "no such file")
     if os.path.getsize(path) == 0:
         raise MeshError(path, "file is empty", "empty")
     try:

@@ -16,7 +16,7 @@ import argparse
 import dataclasses
 from dataclasses import dataclass
 
-from .validation import Check, arg
+from .validation import Check, InputError, arg
 
 
 @dataclass(frozen=True)
@@ -63,9 +63,19 @@ def shown(value):
     return str(value)
 
 
-def comma_list(text):
-    """`a,b` on the command line: the names, each checked where the option is."""
-    return tuple(p.strip() for p in text.split(","))
+def comma_list(check):
+    """An argparse type for `a,b` on the command line: the names, checked as the option checks
+    them, so a bad one is refused naming the flag."""
+    def parse(text):
+        names = tuple(p.strip() for p in text.split(","))
+        try:
+            for name in names if check.items else ():
+                check.items("", name)  # the bad name itself, not the list, is what the error shows
+            return check("", names)
+        except InputError as e:  # "argument --planners: must be one of ..., got 'psychic'"
+            raise argparse.ArgumentTypeError(str(e).strip()) from None
+    parse.__name__ = "list"
+    return parse
 
 
 def flag_name(leaf):
@@ -86,7 +96,7 @@ def flag_kwargs(leaf, unset):
     elif check.kind is list:
         kw.update(nargs=check.length[0], type=arg(check.items))
     elif check.kind is tuple:
-        kw["type"] = comma_list
+        kw["type"] = comma_list(check)
     else:
         kw["type"] = arg(check)
     if leaf.meta("metavar"):

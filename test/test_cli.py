@@ -262,7 +262,7 @@ def test_demo_recognises_an_object_over_ros():
     (["--mesh", "{files}/noise.obj"], "noise.obj: not a text OBJ file"),
     (["--mesh", "{files}/lie.ply"], "lie.ply: header declares 3 vertices and 1000 faces"),
     (["--mesh", "{files}/missing.stl"], "missing.stl: no such file"),
-    (["--mesh", "{files}/a_dir"], "unsupported format ''"),
+    (["--mesh", "{files}/a_dir"], "a_dir: is a directory, not a file"),
     (["--theta", "nan"], "argument --theta: must be a finite number, got 'nan'"),
     (["--phi", "inf"], "argument --phi: must be a finite number, got 'inf'"),
     (["--views", "-3"], "argument --views: must be an integer from 0 to 100, got '-3'"),
@@ -346,6 +346,18 @@ def test_train_refuses(files, capsys, argv, message):
     assert not (files / "fresh_run" / "last.pt").exists()
 
 
+@pytest.mark.parametrize("command", ["render", "dataset", "train", "evaluate", "demo"])
+def test_help_at_80_columns_breaks_no_word(monkeypatch, command):
+    """argparse wraps help at spaces; a word longer than the column (a list joined without
+    spaces) it cuts in two, which reads as two wrong names."""
+    monkeypatch.setenv("COLUMNS", "80")
+    sub = cli.build_parser()._subparsers._group_actions[0].choices[command]
+    shown = set(sub.format_help().split())
+    for action in sub._actions:
+        words = (action.help or "").replace("%%", "%").split()
+        assert all(w in shown for w in words), (action.option_strings, [w for w in words if w not in shown])
+
+
 @pytest.mark.parametrize("argv,message", [
     (["--objects", "-1"], "argument --objects: must be an integer >= 0, got '-1'"),
     (["--objects", "4"], "objects = 4, but the folder test split holds 3 (0 = all of them)"),
@@ -353,8 +365,10 @@ def test_train_refuses(files, capsys, argv, message):
     (["--starts", "51"], "argument --starts: must be an integer from 1 to 50, got '51'"),
     (["--steps", "0"], "argument --steps: must be an integer from 1 to 100, got '0'"),
     (["--entropy-threshold", "nan"], "argument --entropy-threshold: must be a finite number >= 0"),
-    (["--planners", "psychic"], "planners[0] must be one of learned, random, straight"),
-    (["--planners", ","], "planners[0] must be one of"),
+    (["--planners", "psychic"], "argument --planners: must be one of learned, random, straight"),
+    (["--planners", "random,psychic"], "argument --planners: must be one of learned, random, straight, "
+                                       "reinforce, fixed, imitation, fixed+imitation, oracle, greedy, got 'psychic'"),
+    (["--planners", ","], "argument --planners: must be one of"),
     (["--planners", "random,random"], "planners: random named more than once"),
     (["--planners", "reinforce"], "the reinforce planner needs --reinforce-checkpoint"),
     (["--planners", "imitation"], "the imitation planner needs a model with a view-scoring head"),

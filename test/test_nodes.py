@@ -331,6 +331,16 @@ def test_a_node_that_cannot_start_says_why_in_one_line_and_exits_2(failed_starts
     assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
     errors = [line for line in p.stderr.splitlines() if "error:" in line]
     assert len(errors) == 1 and message in errors[0], p.stderr
+    assert errors[0].startswith(f"{node}: error: "), p.stderr  # the executable's name, as ros2 run says it
+
+
+@pytest.mark.parametrize("node,param", [("recognizer", "max_views:=10  an integer from 1 to 1000"),
+                                        ("simulated_camera", "index:=0  an integer >= 0, may change at run time")])
+def test_help_lists_the_parameters_instead_of_starting_the_node(node, param):
+    p = subprocess.run([sys.executable, "-m", f"active_recognition.nodes.{node}", "--help"],
+                       capture_output=True, text=True, timeout=60)  # the node itself would spin on
+    assert p.returncode == 0 and p.stdout.startswith(f"usage: ros2 run active_recognition {node} "), p.stderr
+    assert f"\n  {param}: " in p.stdout, p.stdout
 
 
 def test_bad_parameters_at_run_time_are_refused_and_the_node_keeps_its_settings(loop):

@@ -2,7 +2,13 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """MCAP recording: complete message definitions, and a recorded demo read back by mcap_ros2."""
+import re
+import signal
+import subprocess
+import sys
+import time
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,8 +24,17 @@ from rclpy.serialization import serialize_message  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition.nodes.demo import run_demo  # noqa: E402
+from active_recognition.nodes.recognizer_outputs import recorded_topics  # noqa: E402
 from active_recognition.nodes.recorder import TOPICS, check_path, type_name, vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
+
+
+def test_the_ros_page_names_every_topic_a_recording_holds():
+    section = (Path(__file__).parents[1] / "docs" / "ros.md").read_text().split("## Recording and viewing a run")[1]
+    vision = ("recognition/classification", "recognition/result/classification", "recognition/label_info")
+    assert set(vision_topics()) <= set(vision)  # the names below, where vision_msgs can be used
+    for topic in {*recorded_topics(), *vision}:
+        assert f"`{topic}`" in section, topic
 
 
 def test_a_definition_holds_the_type_and_every_type_it_uses_once():
@@ -66,6 +81,35 @@ def test_an_unknown_type_is_named(name, why):
 def test_a_bad_record_path_is_named(tmp_path, path, why):
     with pytest.raises(ValueError, match=f"record: .*{why}"):
         check_path(tmp_path / path)
+
+
+def test_the_demo_refuses_a_bad_record_path_before_any_node_starts(tmp_path, monkeypatch):
+    import active_recognition.nodes.demo as demo
+    monkeypatch.setattr(demo, "ros_session", lambda *args: pytest.fail("a ROS session started"))
+    with pytest.raises(ValueError, match="record: .*must be a file name ending in .mcap"):
+        run_demo(objects=1, record=str(tmp_path / "run.txt"), out=lambda line: None)
+
+
+@pytest.mark.slow  # a node process of its own: seconds
+def test_the_node_stopped_by_ctrl_c_writes_its_recording_and_says_so_cleanly(tmp_path):
+    path = tmp_path / "run.mcap"
+    p = subprocess.Popen([sys.executable, "-m", "active_recognition.nodes.recognizer", "--ros-args",
+                          "-p", f"record:={path}"], stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while not list(tmp_path.glob(".run.mcap.*")) and time.monotonic() < deadline and p.poll() is None:
+            time.sleep(0.2)
+        time.sleep(1.0)  # the timers and subscriptions up
+        hidden = [f.name for f in tmp_path.glob(".run.mcap.*")]
+        p.send_signal(signal.SIGINT)
+        err = p.communicate(timeout=30)[1]
+    finally:
+        p.kill()
+    assert p.returncode == 0 and path.is_file(), err
+    assert "recorded " in err and "Failed to publish" not in err and "Traceback" not in err, err
+    said = re.search(r"`(\.run\.mcap\.[^`]*\.tmp)`", (Path(__file__).parents[1] / "docs" / "ros.md").read_text())
+    pattern = re.sub(r"<[a-z]+>", r"\\d+", re.escape(said.group(1)))  # <pid> -> digits
+    assert len(hidden) == 1 and re.fullmatch(pattern, hidden[0]), (hidden, said.group(1))  # as ros.md names it
 
 
 def test_a_recorded_demo_holds_every_message_the_loop_published(tmp_path, monkeypatch):

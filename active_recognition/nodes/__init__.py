@@ -100,9 +100,30 @@ class Throttled:
             self.logger.warn(f"{text} ({self.counts[key]} so far)")
 
 
-def run_node(node_class, args=None):
+def usage(prog, params):
+    """What `NAME --help` prints: how to set the node's parameters, and each one's default and range."""
+    from active_recognition.options import shown
+
+    lines = [f"usage: ros2 run active_recognition {prog} [--ros-args -p NAME:=VALUE ...]",
+             "parameters (docs/options.md; config/*.yaml):"]
+    for n, p in params.items():
+        value = f'"{p.default}"' if isinstance(p.default, str) else shown(p.default)
+        lines.append(f"  {n}:={value}  {p.check.allowed()}{'' if p.read_only else ', may change at run time'}: "
+                     f"{p.description}")
+    return "\n".join(lines)
+
+
+def run_node(node_class, args=None, name=None, params=None):
     """The standard node main(): init, spin until Ctrl-C or shutdown, clean up. A node that cannot
-    start (a bad parameter, checkpoint or mesh) says why in one line and exits with status 2."""
+    start (a bad parameter, checkpoint or mesh) says why in one line, `NAME: error: ...` (NAME the
+    executable's, as `ros2 run` calls it), and exits with status 2. `-h` or `--help` outside
+    --ros-args prints `params` ({name: options.Param}) instead of starting the node."""
+    from rclpy.utilities import remove_ros_args
+
+    prog = name or node_class.__name__
+    if params is not None and {"-h", "--help"} & set(remove_ros_args(sys.argv if args is None else args)[1:]):
+        print(usage(prog, params))
+        return 0
     import rclpy
     from rclpy.exceptions import ParameterException
     from rclpy.executors import ExternalShutdownException
@@ -112,14 +133,14 @@ def run_node(node_class, args=None):
     try:
         rclpy.init(args=args)
     except Exception as e:  # RCLError: a --params-file that is missing or not YAML, a bad --ros-args
-        print(f"{node_class.__name__}: error: {' '.join(str(e).split())}", file=sys.stderr)
+        print(f"{prog}: error: {' '.join(str(e).split())}", file=sys.stderr)
         return 2
     node = None
     try:
         try:
             node = node_class()
         except (InputError, OSError, ParameterException) as e:
-            print(f"{node_class.__name__}: error: {e}", file=sys.stderr)
+            print(f"{prog}: error: {e}", file=sys.stderr)
             return 2
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):

@@ -19,6 +19,7 @@ from std_srvs.srv import Trigger
 from active_recognition.checkpoint import load_model, model_path
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.nodes.recognizer import Recognizer
+from active_recognition.nodes.recorder import check_path
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
 from active_recognition.simulated_camera import sensor_config
 from active_recognition.validation import InputError
@@ -106,6 +107,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
     shipped model unless `checkpoint` names one) through a simulated `camera` ("virtual" or
     "realsense", simulated_camera.PRESETS), recording every topic to the .mcap file `record`
     if given; returns the summary dict."""
+    if record:
+        check_path(record)  # refused now, not once both nodes are up and the camera has logged
     test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
     if not 1 <= objects <= len(test):
         raise InputError(f"objects must be 1..{len(test)} ({dataset} test split), got {objects}")

@@ -161,8 +161,11 @@ class Recognizer(RecognizerInputs, LifecycleNode):
 
     def close_recorder(self):
         if self.recorder is not None:
-            self.get_logger().info(f"recorded {sum(self.recorder.counts.values())} messages to "
-                                   f"{self.recorder.close()}")
+            text = f"recorded {sum(self.recorder.counts.values())} messages to {self.recorder.close()}"
+            if self.context.ok():
+                self.get_logger().info(text)
+            else:  # after Ctrl-C the context is shut down: rosout cannot take the line, rcl says so
+                print(f"[{self.get_name()}]: {text}", file=sys.stderr)
             self.recorder = None
 
     def destroy_node(self):
@@ -303,7 +306,7 @@ class Recognizer(RecognizerInputs, LifecycleNode):
 
 
 def main(args=None):
-    return run_node(Recognizer, args)
+    return run_node(Recognizer, args, "recognizer", PARAMS)
 
 
 if __name__ == "__main__":

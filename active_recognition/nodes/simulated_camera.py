@@ -85,7 +85,7 @@ class SimulatedCameraNode(Node):
 
 
 def main(args=None):
-    return run_node(SimulatedCameraNode, args)
+    return run_node(SimulatedCameraNode, args, "simulated_camera", PARAMS)
 
 
 if __name__ == "__main__":
