@@ -427,3 +427,10 @@ def test_an_episode_paused_by_deactivate_goes_on_at_activate(loop):
     recognizer.trigger_activate()  # asks for the view again
     assert spin_until(executor, lambda: bool(results), 10)
     assert json.loads(results[0])["status"] == "recognized" and recognizer.received > 0
+
+
+def test_a_nodes_own_words_are_those_outside_ros_args():
+    from active_recognition.nodes import own_args
+    assert own_args(["prog", "--help"]) == ["--help"]
+    assert own_args(["prog", "--ros-args", "-p", "x:=1", "--params-file", "/no/such.yaml"]) == []
+    assert own_args(["prog", "--ros-args", "-p", "h:=--help", "--", "-h"]) == ["-h"]

@@ -113,15 +113,28 @@ def usage(prog, params):
     return "\n".join(lines)
 
 
+def own_args(argv):
+    """The words of `argv` (after the program's name) outside ROS's: before any --ros-args, and
+    after a `--` that ends one. Read by hand: rclpy's remove_ros_args parses the ROS arguments
+    too, and so raises on a bad --params-file before rclpy.init can report it in one line."""
+    words, ros = [], False
+    for word in argv[1:]:
+        if word == "--ros-args":
+            ros = True
+        elif word == "--" and ros:
+            ros = False
+        elif not ros:
+            words.append(word)
+    return words
+
+
 def run_node(node_class, args=None, name=None, params=None):
     """The standard node main(): init, spin until Ctrl-C or shutdown, clean up. A node that cannot
     start (a bad parameter, checkpoint or mesh) says why in one line, `NAME: error: ...` (NAME the
     executable's, as `ros2 run` calls it), and exits with status 2. `-h` or `--help` outside
     --ros-args prints `params` ({name: options.Param}) instead of starting the node."""
-    from rclpy.utilities import remove_ros_args
-
     prog = name or node_class.__name__
-    if params is not None and {"-h", "--help"} & set(remove_ros_args(sys.argv if args is None else args)[1:]):
+    if params is not None and {"-h", "--help"} & set(own_args(sys.argv if args is None else args)):
         print(usage(prog, params))
         return 0
     import rclpy
