@@ -43,7 +43,7 @@ setup(
                       "tqdm", "matplotlib", "pyyaml", "shapely>=2", "mapbox-earcut"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
     extras_require={"ros": ros, "msgs": msgs,
-                    "test": ["pytest>=7", "rosdep"] + lint + colcon + msgs},
+                    "test": ["pytest>=7", "pytest-xdist>=3", "rosdep"] + lint + colcon + msgs},
     zip_safe=True,
     maintainer="active_recognition maintainers",
     maintainer_email="maintainers@active-recognition.invalid",

@@ -11,8 +11,12 @@ import sys
 import numpy as np
 import pytest
 
-# A private DDS domain per test run, so parallel runs on one machine do not hear each other.
-os.environ.setdefault("ROS_DOMAIN_ID", str(random.SystemRandom().randint(1, 100)))
+# A private DDS domain per test run, so parallel runs on one machine do not hear each other;
+# under pytest-xdist (-n 2) each worker takes its own, 30 apart (workers inherit the run's).
+os.environ.setdefault("ROS_DOMAIN_ID", str(random.SystemRandom().randint(1, 30)))
+if os.environ.get("PYTEST_XDIST_WORKER", "").startswith("gw"):
+    worker = int(os.environ["PYTEST_XDIST_WORKER"][2:])
+    os.environ["ROS_DOMAIN_ID"] = str((int(os.environ["ROS_DOMAIN_ID"]) - 1) % 30 + 1 + 30 * (worker + 1))
 os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
 # torch on one thread, here and in every process a test starts (unless OMP_NUM_THREADS says
 # otherwise): the tests' tensors are small, and beside the processes a test starts (cameras,
