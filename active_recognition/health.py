@@ -76,13 +76,14 @@ class Health:
                                                                         self.episode_since)
         return now - latest
 
-    def level(self, now, view_timeout, active=True):
-        """(level, message): 'OK' / 'WARN' / 'ERROR' and why. Inactive, nothing is expected."""
+    def level(self, now, view_timeout, active=True, state="inactive"):
+        """(level, message): 'OK' / 'WARN' / 'ERROR' and why. Not active (lifecycle `state`),
+        nothing is expected."""
         self.trim(now)
         if self.error is not None:
-            return "ERROR", f"the model is not loaded: {self.error}"
+            return "ERROR", f"configure failed, no model loaded: {self.error}"
         if not active:
-            return "OK", "inactive: images are ignored"
+            return "OK", f"{state}: images are ignored"
         silent = self.silent_for(now)
         if silent is not None and silent > view_timeout:
             return "WARN", (f"no image for {silent:.1f} s during an episode (view_timeout "

@@ -27,7 +27,8 @@ def test_a_silent_camera_during_an_episode_warns_and_a_frame_clears_it():
     health.frame(103.6)
     assert health.level(104.0, 3.0) == ("OK", "recognizing")
     assert health.level(106.7, 3.0)[0] == "WARN"  # silent again
-    assert health.level(106.7, 3.0, active=False)[0] == "OK"  # inactive: images are ignored
+    assert health.level(106.7, 3.0, active=False) == ("OK", "inactive: images are ignored")
+    assert health.level(106.7, 3.0, active=False, state="unconfigured")[1] == "unconfigured: images are ignored"
     health.resumed(10.0)  # inactive for 10 s: that silence is not the camera's
     assert health.level(116.0, 3.0)[0] == "OK"
     health.ended("recognized")

@@ -98,7 +98,7 @@ def end_header(node, last):
 
 def diagnostics(node, now):
     """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is monotonic seconds."""
-    level, message = node.health.level(now, node.view_timeout, node.state == "active")
+    level, message = node.health.level(now, node.view_timeout, node.state == "active", node.state)
     values = {"state": node.state, "model": node.model_file or "", "model loaded": node.core is not None}
     if node.core is not None:
         values.update({"classes": len(node.core.classes), "planner": node.core.planner})
