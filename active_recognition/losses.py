@@ -131,11 +131,12 @@ class ImitationLoss(nn.Module, Planner):
     """
 
     def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None, limits=None,
-                 distill=0.0, random_views=0.0):
+                 distill=0.0, random_views=0.0, teacher_dtype=None):
         super().__init__()
+        self.teacher_dtype = teacher_dtype  # devices.teacher_dtype: None (float32) or bfloat16
         self.distill = distill  # weight of FC_loc's loss toward the teacher's view
         self.random_views = random_views  # chance a step goes to a random unvisited candidate
-        self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d: d)
+        self.model, self.steps, self.mix, self.corrupt = model, steps, mix, corrupt or (lambda d, rng=None: d)
         self.weights = step_weights(steps, weighting).tolist()
         self.candidates = geometry.fibonacci_views(model.config.candidates)
         self.limits = limits
@@ -144,18 +145,24 @@ class ImitationLoss(nn.Module, Planner):
         """(B,) index of the best unvisited candidate for each object (the teacher's choice)."""
         return teacher_choice(self.model, cand_features, hidden, labels, self.candidates, visited)
 
-    def candidate_depth(self, cameras):
-        """(B, K, H, W) renders of every candidate view of each camera, at the views (float32)
-        an episode holds, so its steps look them up (Trainer.inputs may make them ahead)."""
+    def candidate_depth(self, cameras, rng=None):
+        """(clean, seen): (B, K, H, W) renders of every candidate view of each camera, at the
+        views (float32) an episode holds, so its steps look them up, and the teacher's copy of
+        them, corrupted by the augmentation (drawn from numpy's `rng` where given, else from
+        torch's generator). Trainer.inputs may make them ahead, on a thread."""
         clean = depth_layer.render_batch(cameras, depth_layer.float32_views(self.candidates))
-        return clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
+        clean = clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
+        return clean, self.corrupt(torch.from_numpy(clean), rng=rng)
 
-    def forward(self, cameras, views, labels, clean=None):
+    def forward(self, cameras, views, labels, clean=None, seen=None):
         model, k = self.model, len(self.candidates)
-        clean = self.candidate_depth(cameras) if clean is None else clean
+        if clean is None:
+            clean, seen = self.candidate_depth(cameras)
         with torch.no_grad():
-            depth = self.corrupt(torch.from_numpy(clean))
-            feats = model.features(depth.flatten(0, 1).to(labels.device))
+            depth = seen.flatten(0, 1).to(labels.device)
+            with torch.autocast(labels.device.type, self.teacher_dtype or torch.float32,
+                                enabled=self.teacher_dtype is not None):
+                feats = model.features(depth).float()
         self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      planner=self, reach=reach_of(self.limits))

@@ -28,7 +28,7 @@ from .ahead import Ahead
 from .datasets import default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
-from .devices import distributed, resolve_device, training_layout
+from .devices import distributed, resolve_device, teacher_dtype, training_layout
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
@@ -73,7 +73,7 @@ def joint_loss(cfg: TrainConfig, model, corrupt):
                              reduction=cfg.gradient_reduction, corrupt=corrupt, limits=limits)
     if cfg.policy == "imitation":
         return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt, limits,
-                             cfg.distill_loc, cfg.random_views)
+                             cfg.distill_loc, cfg.random_views, teacher_dtype(cfg.teacher_precision, cfg.device))
     return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
                      cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views, limits)
 
@@ -85,7 +85,7 @@ class Inputs(NamedTuple):
     torch_seed: int
     cameras: list
     views: list | None   # pre-training: (k, 2) views per camera
-    depth: np.ndarray | None  # pre-training's images, or imitation's candidate renders
+    depth: np.ndarray | tuple | None  # pre-training's images, or imitation's candidates (clean, seen)
 
 
 class Trainer:
@@ -250,7 +250,7 @@ class Trainer:
         cams = self.shapes.cameras(idx, self.augment, rng)
         if stage == "joint":
             loss = getattr(net, "module", net)  # under DDP, the loss it wraps
-            return Inputs(rng, seed, cams, None, loss.candidate_depth(cams)
+            return Inputs(rng, seed, cams, None, loss.candidate_depth(cams, rng)
                           if hasattr(loss, "candidate_depth") else None)
         views = [self.limits.random_views(rng, self.cfg.views_per_shape) for _ in cams]
         return Inputs(rng, seed, cams, views, depth_layer.render_batch(cams, views))
@@ -276,7 +276,7 @@ class Trainer:
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
         if stage == "joint":
             starts = self.starts[inputs.rng.integers(0, len(self.starts), len(idx))]
-            known = () if inputs.depth is None else (inputs.depth,)
+            known = () if inputs.depth is None else inputs.depth  # imitation's (clean, seen)
             return net(inputs.cameras, starts, y, *known)
         k = self.cfg.views_per_shape
         depth = self.augment.images(torch.from_numpy(inputs.depth))

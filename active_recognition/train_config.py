@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from .augment import Augment
 from .datasets import NAMES
 from .depth_layer import GRADIENT_RULES
+from .devices import PRECISIONS
 from .model import ModelConfig, initial_step_bias
 from .reach import ViewLimits
 from .schedule import SCHEDULES
@@ -86,6 +87,10 @@ class TrainConfig:
     prefetch: bool = option(False, help=(
         "make each batch's cameras and renders on a thread while the network works on the batch "
         "before (the same batches, bit for bit; it pays where a core would idle)"))
+    teacher_precision: str = option("auto", choices=PRECISIONS, help=(
+        "imitation: the precision of the teacher's pass over the 50 candidate views (no gradient "
+        "flows there, it only ranks them): auto is bfloat16 where the hardware runs it fast "
+        "(AVX-512 CPUs, GPUs), float32 elsewhere"))
     max_shapes: int = option(0, lo=0, help=(
         "train on a seeded subset of this many shapes, each class in it (0: all)"))
     yaw: bool = option(False, help=AUGMENT + (

@@ -138,11 +138,14 @@ def test_the_floor_cut_raises_the_bottom_of_the_crop_only():
     np.testing.assert_allclose(np.array(lo)[:, :2], -0.6)
 
 
-def test_dropout_only_turns_pixels_into_misses_at_the_rate_asked():
+@pytest.mark.parametrize("source", ["torch", "numpy"])
+def test_dropout_only_turns_pixels_into_misses_at_the_rate_asked(source):
+    """Drawn from torch's generator or from numpy's (imitation's candidates): the same rates."""
     torch.manual_seed(0)
+    rng = np.random.default_rng(0) if source == "numpy" else None
     depth = torch.full((400, 32, 32), MISS)
     depth[:, 4:28, 4:28] = 100.0  # a flat face: edges only on its rim
-    out = Augment(dropout=0.3).images(depth)
+    out = Augment(dropout=0.3).images(depth, rng=rng)
     changed = out != depth
     assert torch.all(out[changed] == MISS) and torch.all(out[depth == MISS] == MISS)
     interior = changed[:, 6:26, 6:26].float().mean().item()
@@ -150,6 +153,17 @@ def test_dropout_only_turns_pixels_into_misses_at_the_rate_asked():
     rim = changed[:, 4, 6:26].float().mean().item()  # edge pixels: dropped twice as often
     assert rim > interior * 1.6
     assert torch.equal(Augment().images(depth), depth)
+    if rng is not None:  # numpy's draws are the seed's alone, whatever torch's generator did
+        torch.manual_seed(1)
+        assert torch.equal(Augment(dropout=0.3).images(depth, rng=np.random.default_rng(0)), out)
+
+
+def test_chances_drawn_from_numpy_hold_their_probability():
+    from active_recognition.augment import below
+    chance = torch.tensor([0.0, 0.02, 0.5, 0.97])[:, None]
+    hits = below((4, 200_000), chance, rng=np.random.default_rng(3)).float().mean(1)
+    np.testing.assert_allclose(hits.numpy(), chance[:, 0].numpy(), atol=0.004)
+    assert hits[0] == 0
 
 
 def test_steep_dropout_drops_what_a_drivers_flying_pixel_filter_drops():

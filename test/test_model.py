@@ -467,3 +467,25 @@ def test_an_episode_told_not_to_mirror_keeps_the_same_states_and_answers_as_mean
         torch.testing.assert_close(h_m, h_n)  # the mirror pass never touches the state
         torch.testing.assert_close(p_n, p)    # without it, the answer is the plain mean's
         assert not torch.allclose(p_m, p_n)   # with it, the mirror images count
+
+
+def test_the_wide_encoders_in_place_relus_give_the_numbers_and_gradients_of_plain_ones():
+    """Its ReLUs overwrite their batch norm's output: the same outputs and gradients as a copy
+    with ReLUs that allocate, in training mode (batch statistics), channels-last as trained."""
+    import copy
+    from torch import nn
+    from active_recognition.devices import training_layout
+    torch.manual_seed(0)
+    model = training_layout(RecurrentAttention(ModelConfig(encoder="wide", num_classes=4)), "cpu")
+    plain = copy.deepcopy(model)
+    assert any(getattr(m, "inplace", False) for m in model.encoder)
+    for m in plain.encoder:
+        if isinstance(m, nn.ReLU):
+            m.inplace = False
+    depth = torch.rand(6, 64, 64) * 255
+    for net in (model, plain):
+        net.features(depth).square().sum().backward()
+    torch.testing.assert_close(model.features(depth), plain.features(depth), rtol=0, atol=0)
+    for (name, a), (_, b) in zip(model.named_parameters(), plain.named_parameters()):
+        if a.grad is not None:
+            torch.testing.assert_close(a.grad, b.grad, rtol=0, atol=0, msg=name)

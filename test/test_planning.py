@@ -516,3 +516,29 @@ def test_stage_loc_refuses_more_than_one_process(monkeypatch):
     with pytest.raises(InputError, match="stage loc runs in one process"):
         LocLoss(model, steps=3)
     assert float(model.loc_fitted) == 0.0  # refused before it touched the model
+
+
+def test_the_teacher_in_bfloat16_ranks_the_candidates_as_in_float32():
+    """teacher_precision: the candidates' features in bfloat16 are float32's to bfloat16's
+    precision, so the teacher's loss and choices barely move; float32 and bfloat16 are as asked,
+    auto follows the hardware, anything else is refused by name."""
+    from active_recognition.devices import teacher_dtype
+    from active_recognition.validation import InputError
+    assert teacher_dtype("float32", "cpu") is None and teacher_dtype("bfloat16", "cpu") is torch.bfloat16
+    assert teacher_dtype("auto", "cpu") in (None, torch.bfloat16)
+    with pytest.raises(InputError, match="teacher_precision must be one of"):
+        teacher_dtype("half", "cpu")
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(encoder="wide", num_classes=3, candidates=8)).train()
+    cams = [DepthCamera(*make_shape(c, seed)) for c, seed in ((0, 3), (1, 5), (4, 2), (2, 7))]
+    labels, views = torch.tensor([0, 2, 1, 1]), geometry.fibonacci_views(8)[:4]
+    targets = {}
+    for dtype in (None, torch.bfloat16):
+        loss = ImitationLoss(model, steps=3, mix=1.0, teacher_dtype=dtype)
+        clean, seen = loss.candidate_depth(cams)
+        torch.manual_seed(1)
+        value, _ = loss(cams, views, labels, clean, seen)
+        targets[dtype] = loss.feats
+        assert torch.isfinite(value) and loss.feats.dtype == torch.float32
+    rel = (targets[None] - targets[torch.bfloat16]).norm() / targets[None].norm()
+    assert 0 < rel < 0.03
