@@ -4,7 +4,8 @@
 """Checkpoints as plain dicts, written atomically and loaded with weights_only=True.
 
 {'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}, and
-'size_prior' where the training set knew its objects' sizes (size_prior.py)
+'size_prior' where the training set knew its objects' sizes (size_prior.py), 'open_set' where
+its unknown answer was fitted (open_set_fit.py)
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import torch
 
 from .files import atomic_write
 from .model import ModelConfig, RecurrentAttention
+from .open_set import checked_entry
 from .size_prior import SizePrior
 from .validation import InputError, check_mapping
 
@@ -113,6 +115,11 @@ def build_model(ckpt, path="<checkpoint>"):
     if "size_prior" in ckpt:  # what the object's size says of its class (size_prior.py)
         try:
             model.size_prior = SizePrior.from_dict(ckpt["size_prior"], config.num_classes)
+        except InputError as e:
+            raise CheckpointError(path, str(e)) from None
+    if "open_set" in ckpt:  # the prototypes and threshold of its `unknown` answer (open_set_fit.py)
+        try:
+            model.open_set = checked_entry(ckpt["open_set"], config.num_classes, config.state_size)
         except InputError as e:
             raise CheckpointError(path, str(e)) from None
     return model
