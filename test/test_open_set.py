@@ -261,3 +261,57 @@ def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, m
     checkpoint.save(tmp_path / "bad.pt", {**ckpt, "open_set": entry})
     with pytest.raises(CheckpointError, match=message):
         checkpoint.load_model(tmp_path / "bad.pt")
+
+
+def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_path, dataset_cache, monkeypatch):
+    """fit on a few procedural objects: means (steps, C, S) equal to the class means of states
+    recorded anew, a threshold that accepts the asked share of the val objects' end scores, and a
+    checkpoint that loads (weights_only) with it."""
+    from active_recognition import checkpoint, open_set_fit
+    from active_recognition.datasets import open_splits, subset_with_every_class
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.evaluate import EvalConfig
+
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    path = checkpoint.shipped("procedural")
+    entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10)
+    model, classes, _ = checkpoint.load_model(path)
+    assert tuple(entry["means"].shape) == (3, len(classes), model.config.state_size)
+    cfg = EvalConfig(dataset="procedural", split="val", steps=3, size=False, shared=False)
+    size = model.config.image_size
+    train = Shapes(open_splits("procedural", None, ("train",))["train"], CameraConfig(size, size, radius=model.config.radius))
+    objects = subset_with_every_class(train.labels, 20, 0)
+    ro, rec = open_set_fit.episodes("imitation", model, train, objects, cfg)
+    c = int(ro.labels[0])
+    np.testing.assert_allclose(entry["means"][:, c].numpy(), rec["states"][ro.labels == c].mean(0), rtol=1e-5)
+    fitted = entry["fitted_on"]
+    assert fitted["val_known"] == fitted["val_unknown"] == 10 and fitted["val_known_rejected"] <= 0.2
+    open_set_fit.store(path, entry, tmp_path / "stored.pt")
+    stored = torch.load(tmp_path / "stored.pt", weights_only=True)["open_set"]
+    assert stored["threshold"] == entry["threshold"] and torch.equal(stored["means"], entry["means"])
+    assert checkpoint.load_model(tmp_path / "stored.pt")[0].open_set["threshold"] == entry["threshold"]
+
+
+def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
+    """A checkpoint with its own open_set: the last JSON line also holds `stored`; at the largest
+    threshold (2: 1 - a cosine never exceeds it) nothing is rejected and the known accuracy is
+    the closed-set one."""
+    import json
+
+    from conftest import load_benchmark
+
+    from active_recognition import checkpoint, open_set_fit
+
+    model = checkpoint.load_model(checkpoint.shipped("procedural"))[0]
+    means = torch.rand(3, model.config.num_classes, model.config.state_size, generator=torch.Generator().manual_seed(0))
+    open_set_fit.store(checkpoint.shipped("procedural"), {"score": "prototype_mean", "means": means,
+                                                          "threshold": 2.0, "fitted_on": {}}, tmp_path / "s.pt")
+    out = tmp_path / "open_set.json"
+    load_benchmark("open_set").main(["--dataset", "procedural", "--checkpoint", str(tmp_path / "s.pt"),
+                                     "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
+    last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    stored, record = last["stored"], json.loads(out.read_text())
+    assert set(stored["known_rejected"]) == {"3", "end"} and stored["threshold"] == 2.0
+    assert all(v == 0 for v in stored["known_rejected"].values()) and all(v == 0 for v in stored["unknown_flagged"].values())
+    assert stored["known_accuracy"]["3"] == record["closed_set_accuracy"]["3"]
