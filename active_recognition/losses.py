@@ -16,8 +16,8 @@ from torch import nn
 
 from . import depth_layer, geometry
 from .episode import Episode, EpisodeConfig, Planner, run
-from .policies import nearest_candidates, teacher_choice, unavailable
 from .outliers import episode_loss as outlier_episode, image_loss as outlier_images
+from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
 from .validation import InputError
 

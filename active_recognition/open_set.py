@@ -181,10 +181,6 @@ def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100):
     return ro, rec.record(ro.probs, chunk, cfg.steps, reads_mirror(model))
 
 
-# what a checkpoint's "open_set" holds (open_set_fit.py writes it; the recognizer reads it)
-ENTRY_SCORE = "prototype_mean"
-
-
 def prototype_steps(states, means):
     """The prototype score of each step's state: states (N, T, S) against per-step class means
     (T', C, S), step t against means[min(t, T' - 1)] (an episode longer than the fit uses its
@@ -197,28 +193,3 @@ def prototype_steps(states, means):
 def at_end(scores, stopped_at):
     """(N,) each row's score at its episode's end: scores (N, T), stopped_at (N,) 1-based."""
     return np.asarray(scores)[np.arange(len(scores)), np.asarray(stopped_at) - 1]
-
-
-def checked_entry(entry, num_classes, state_size):
-    """A checkpoint's `open_set` entry checked: {"score": "prototype_mean", "means": float tensor
-    (T, C, S), "threshold": float > 0, "fitted_on": dict}; InputError naming what is wrong."""
-    if not isinstance(entry, dict) or not {"score", "means", "threshold"} <= set(entry):
-        raise InputError("open_set must be a dict with score, means and threshold "
-                         f"(got {sorted(entry) if isinstance(entry, dict) else type(entry).__name__})")
-    if entry["score"] != ENTRY_SCORE:
-        raise InputError(f"open_set score must be {ENTRY_SCORE!r}, got {entry['score']!r}")
-    means = entry["means"]
-    if not torch.is_tensor(means) or not means.is_floating_point() or means.ndim != 3 or not len(means):
-        raise InputError(f"open_set means must be a float tensor (steps, classes, state size), got "
-                         f"{tuple(means.shape) if torch.is_tensor(means) else type(means).__name__}")
-    if tuple(means.shape[1:]) != (num_classes, state_size):
-        raise InputError(f"open_set means {tuple(means.shape)} do not fit the model: (steps, {num_classes} "
-                         f"classes, state size {state_size}) expected")
-    if not torch.isfinite(means).all():
-        raise InputError("open_set means hold NaN or infinite values")
-    threshold = entry["threshold"]
-    if type(threshold) not in (int, float) or not 0 < threshold <= 2:
-        raise InputError(f"open_set threshold must be a number in (0, 2] (1 - a cosine), got {threshold!r}")
-    if not isinstance(entry.get("fitted_on", {}), dict):
-        raise InputError("open_set fitted_on must be a dict")
-    return {**entry, "means": means.float(), "threshold": float(threshold)}

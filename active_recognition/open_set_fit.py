@@ -14,7 +14,7 @@ default 0.97 rejects about 3 % of them, a margin below the 5 % the test split ma
 unknowns' val styles (datasets/unknowns.py) are scored beside them and their share flagged kept
 in `fitted_on`; their test styles are never read. The checkpoint is rewritten atomically.
 
-    python -m active_recognition.open_set_fit --checkpoint PATH --dataset modelnet --root DIR \\
+    python -m active_recognition.open_set_fit --checkpoint PATH --dataset modelnet --root DIR
         [--objects 600] [--known-rate 0.97] [--out PATH]
 """
 from __future__ import annotations
@@ -95,9 +95,9 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
                  "val_known_rejected": round(float((known > threshold).mean()), 4),
                  "val_unknown_flagged": round(float((other > threshold).mean()), 4),
                  "val_auroc": round(open_set.auroc(known, other), 4)}
-    entry = {"score": open_set.ENTRY_SCORE, "means": torch.from_numpy(means), "threshold": threshold,
+    entry = {"score": checkpoint.OPEN_SET_SCORE, "means": torch.from_numpy(means), "threshold": threshold,
              "fitted_on": fitted_on}
-    return open_set.checked_entry(entry, len(classes), model.config.state_size)
+    return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
 
 
 def store(path, entry, out=None):

@@ -25,7 +25,6 @@ run must give --out); the last line is JSON.
 import argparse
 from pathlib import Path
 
-import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint, open_set

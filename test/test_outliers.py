@@ -11,7 +11,7 @@ import torch
 
 from active_recognition import outliers
 from active_recognition.losses import PretrainLoss
-from active_recognition.train import Trainer, TrainConfig, train
+from active_recognition.train import TrainConfig, Trainer, train
 from active_recognition.validation import InputError
 
 TINY = dict(pretrain_epochs=2, joint_epochs=1, batch_size=6, max_shapes=24, steps=2, views_per_shape=2,
