@@ -4,7 +4,8 @@
 """Checkpoints as plain dicts, written atomically and loaded with weights_only=True.
 
 {'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}, and
-'size_prior' where the training set knew its objects' sizes (size_prior.py)
+'size_prior' where the training set knew its objects' sizes (size_prior.py), 'open_set' where
+its unknown answer was fitted (open_set_fit.py)
 """
 from __future__ import annotations
 
@@ -115,7 +116,40 @@ def build_model(ckpt, path="<checkpoint>"):
             model.size_prior = SizePrior.from_dict(ckpt["size_prior"], config.num_classes)
         except InputError as e:
             raise CheckpointError(path, str(e)) from None
+    if "open_set" in ckpt:  # the prototypes and threshold of its `unknown` answer (open_set_fit.py)
+        try:
+            model.open_set = checked_open_set(ckpt["open_set"], config.num_classes, config.state_size)
+        except InputError as e:
+            raise CheckpointError(path, str(e)) from None
     return model
+
+
+OPEN_SET_SCORE = "prototype_mean"  # the score of a checkpoint's "open_set" (open_set_fit.py)
+
+
+def checked_open_set(entry, num_classes, state_size):
+    """A checkpoint's `open_set` entry checked: {"score": "prototype_mean", "means": float tensor
+    (T, C, S), "threshold": float > 0, "fitted_on": dict}; InputError naming what is wrong."""
+    if not isinstance(entry, dict) or not {"score", "means", "threshold"} <= set(entry):
+        raise InputError("open_set must be a dict with score, means and threshold "
+                         f"(got {sorted(entry) if isinstance(entry, dict) else type(entry).__name__})")
+    if entry["score"] != OPEN_SET_SCORE:
+        raise InputError(f"open_set score must be {OPEN_SET_SCORE!r}, got {entry['score']!r}")
+    means = entry["means"]
+    if not torch.is_tensor(means) or not means.is_floating_point() or means.ndim != 3 or not len(means):
+        raise InputError(f"open_set means must be a float tensor (steps, classes, state size), got "
+                         f"{tuple(means.shape) if torch.is_tensor(means) else type(means).__name__}")
+    if tuple(means.shape[1:]) != (num_classes, state_size):
+        raise InputError(f"open_set means {tuple(means.shape)} do not fit the model: (steps, {num_classes} "
+                         f"classes, state size {state_size}) expected")
+    if not torch.isfinite(means).all():
+        raise InputError("open_set means hold NaN or infinite values")
+    threshold = entry["threshold"]
+    if type(threshold) not in (int, float) or not 0 < threshold <= 2:
+        raise InputError(f"open_set threshold must be a number in (0, 2] (1 - a cosine), got {threshold!r}")
+    if not isinstance(entry.get("fitted_on", {}), dict):
+        raise InputError("open_set fitted_on must be a dict")
+    return {**entry, "means": means.float(), "threshold": float(threshold)}
 
 
 def nonfinite(state_dict):

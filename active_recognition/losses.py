@@ -16,6 +16,7 @@ from torch import nn
 
 from . import depth_layer, geometry
 from .episode import Episode, EpisodeConfig, Planner, run
+from .outliers import episode_loss as outlier_episode, image_loss as outlier_images
 from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
 from .validation import InputError
@@ -36,13 +37,16 @@ def steps_loss(out, labels, weights):
 class PretrainLoss(nn.Module):
     """The shape classifier on single images (wrapped whole by DDP: one forward per backward)."""
 
-    def __init__(self, model):
+    def __init__(self, model, corrupt=None):
         super().__init__()
-        self.model = model
+        self.model, self.corrupt = model, corrupt  # corrupt: the outliers' images (outliers.py)
 
-    def forward(self, depth, labels, views=None):
+    def forward(self, depth, labels, views=None, outliers=None):
         logits = self.model.classify_image(depth, views)
-        return nn.functional.cross_entropy(logits, labels), (logits.argmax(1) == labels).float().mean()
+        loss = nn.functional.cross_entropy(logits, labels)
+        if outliers is not None:  # after the known images, so theirs are what they are without
+            loss = loss + outlier_images(self.model, outliers, self.corrupt, depth.device)
+        return loss, (logits.argmax(1) == labels).float().mean()
 
 
 class JointLoss(nn.Module):
@@ -154,7 +158,7 @@ class ImitationLoss(nn.Module, Planner):
         clean = clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
         return clean, self.corrupt(torch.from_numpy(clean), rng=rng)
 
-    def forward(self, cameras, views, labels, clean=None, seen=None):
+    def forward(self, cameras, views, labels, clean=None, seen=None, outliers=None):
         model, k = self.model, len(self.candidates)
         if clean is None:
             clean, seen = self.candidate_depth(cameras)
@@ -169,6 +173,8 @@ class ImitationLoss(nn.Module, Planner):
         known = [depth_layer.KnownViews(c, self.candidates, d) for c, d in zip(cameras, clean)]
         out = run(ep, known, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
+        if outliers is not None:  # after the known episode, which stays what it is without
+            loss = loss + outlier_episode(model, outliers, self.candidates, self.steps, self.corrupt, self.limits)
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
     def next_view(self, episode, step):

@@ -179,3 +179,17 @@ def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100):
     with torch.no_grad():
         ro = rollout(name, model, shapes, objects, starts, cfg, chunk=chunk, forward=rec)
     return ro, rec.record(ro.probs, chunk, cfg.steps, reads_mirror(model))
+
+
+def prototype_steps(states, means):
+    """The prototype score of each step's state: states (N, T, S) against per-step class means
+    (T', C, S), step t against means[min(t, T' - 1)] (an episode longer than the fit uses its
+    last step's) -> (N, T)."""
+    states, means = np.asarray(states, dtype=float), np.asarray(means, dtype=float)
+    return np.stack([Gaussians(means[min(t, len(means) - 1)], None).cosine(states[:, t])
+                     for t in range(states.shape[1])], 1)
+
+
+def at_end(scores, stopped_at):
+    """(N,) each row's score at its episode's end: scores (N, T), stopped_at (N,) 1-based."""
+    return np.asarray(scores)[np.arange(len(scores)), np.asarray(stopped_at) - 1]

@@ -26,7 +26,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
-from .open_set import energy
+from .open_set import Gaussians, energy
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -79,16 +79,26 @@ class SensingConfig:
         "an episode whose mean energy over its views (-log sum exp of the logits) ends above this "
         "ends with status unknown, its best class and probability kept; 0 = never (the operating "
         "point accepting 95 % of ModelNet10's validation objects: docs/results/modelnet10/open_set.json)"))
+    # open_set.py: the score prototype_mean against the class means a checkpoint carries (open_set_fit.py)
+    unknown_threshold: float = option(-1.0, lo=-1, hi=2, help=(
+        "an episode whose mean prototype score over its views (1 - the cosine of each view's "
+        "recurrent state to the nearest class mean) ends above this ends with status unknown, "
+        "its best class and probability kept; -1 = the checkpoint's own threshold (none where "
+        "it carries no open_set: python -m active_recognition.open_set_fit), 0 = never; "
+        "either this or unknown_energy suffices"))
 
     def __post_init__(self):
         validate(self)
+        if -1 < self.unknown_threshold < 0:
+            raise InputError(f"unknown_threshold must be -1 (the checkpoint's), 0 (never) or above 0, "
+                             f"got {self.unknown_threshold}")
 
 
 @dataclass
 class Observation:
-    # classified (go on), recognized (stopped), unknown (stopped on an object of no known class,
-    # sensing.unknown_energy), empty, moved (another view after an unreachable one), no_object,
-    # no_image or timeout (ended)
+    # classified (go on), recognized (stopped), unknown (stopped on an object of no known class:
+    # sensing.unknown_energy or unknown_threshold), empty, moved (another view after an
+    # unreachable one), no_object, no_image or timeout (ended)
     status: str
     probs: np.ndarray | None  # (C,); None when the image was not classified
     label: str
@@ -148,6 +158,7 @@ class ActiveRecognizer:
         self.no_image, self.unreachable_run, self.timed_out = False, (None, 0), False
         self.centre = np.zeros(3)  # the object's centre found in the given frame (normalised)
         self.energies = []  # each classified view's energy (open_set.energy of its logits)
+        self.prototypes = []  # and its prototype score, where the checkpoint carries class means
         return tuple(float(v) for v in self.episode.view[0])
 
     def standoff(self, k: geometry.Intrinsics | None = None):
@@ -249,6 +260,11 @@ class ActiveRecognizer:
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
         self.energies.append(float(energy(step.logits[0].numpy())))
+        if self.model.open_set is not None:  # this view's prototype score against its step's class means
+            means = self.model.open_set["means"]
+            t = min(self.episode.steps, len(means)) - 1  # a view past the fitted steps: the last step's
+            self.prototypes.append(float(Gaussians(means[t].numpy(), None).cosine(
+                self.episode.hidden[:1].detach().cpu().numpy())[0]))
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
             self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
@@ -259,9 +275,20 @@ class ActiveRecognizer:
 
     def unknown(self):
         """Whether the evidence so far says the object is of none of the classes: the mean energy
-        of its views above sensing.unknown_energy (never where that is 0)."""
+        of its views above sensing.unknown_energy (never where that is 0), or their mean prototype
+        score above sensing.unknown_threshold (-1: the checkpoint's; never where that is 0 or the
+        checkpoint carries no class means)."""
         threshold = self.sensing.unknown_energy
-        return threshold != 0 and bool(self.energies) and float(np.mean(self.energies)) > threshold
+        if threshold != 0 and self.energies and float(np.mean(self.energies)) > threshold:
+            return True
+        return self.prototypes != [] and float(np.mean(self.prototypes)) > self.prototype_threshold()
+
+    def prototype_threshold(self):
+        """The prototype_mean threshold in force (inf: none)."""
+        chosen = self.sensing.unknown_threshold
+        if chosen == 0 or self.model.open_set is None:
+            return math.inf
+        return self.model.open_set["threshold"] if chosen < 0 else chosen
 
     @contextmanager
     def threads(self):

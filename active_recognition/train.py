@@ -31,6 +31,7 @@ from .depth_layer import CameraConfig
 from .devices import distributed, resolve_device, teacher_dtype, training_layout
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
+from .outliers import OutlierInputs, Outliers
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
 from .schedule import lr_factor, set_lr
 from .train_config import STAGES, TrainConfig, preset_config  # noqa: F401 (cli, tests)
@@ -51,7 +52,7 @@ def train(cfg: TrainConfig, progress=True):
     (loc_epochs) FC_loc alone, learning FC_view's moves."""
     run = Trainer(cfg, progress)
     if run.wants("pretrain"):
-        run.stage("pretrain", PretrainLoss(run.model))
+        run.stage("pretrain", PretrainLoss(run.model, run.corrupt))
         run.save_pretrained()
     if run.wants("joint"):
         run.stage("joint", joint_loss(cfg, run.model, run.corrupt))
@@ -86,6 +87,7 @@ class Inputs(NamedTuple):
     cameras: list
     views: list | None   # pre-training: (k, 2) views per camera
     depth: np.ndarray | tuple | None  # pre-training's images, or imitation's candidates (clean, seen)
+    outliers: OutlierInputs | None = None  # the batch's unknown objects (cfg.outliers)
 
 
 class Trainer:
@@ -112,6 +114,8 @@ class Trainer:
         self.limits = cfg.limits
         self.starts = self.limits.initial_views(50)  # the paper's 50 initial views, in the band
         self.corrupt = self.augment.images if self.augment.changes_images else None
+        self.outliers = (Outliers(camera, self.augment, self.limits, cfg.outliers, cfg.outlier_batch,
+                                  cfg.views_per_shape) if cfg.outliers else None)
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
         self.rows, elapsed, self.opt_state, self.saved = [], 0.0, None, None
         if cfg.resume:
@@ -245,15 +249,18 @@ class Trainer:
         seed of torch's, the augmented cameras, and pre-training's views and images or
         imitation's candidate renders (a thread may make them ahead: nothing here draws from
         torch's generator)."""
-        rng = np.random.default_rng([self.cfg.seed, STAGES.index(stage), epoch, b, self.rank])
+        key = [self.cfg.seed, STAGES.index(stage), epoch, b, self.rank]
+        rng = np.random.default_rng(key)
         seed = int(rng.integers(2 ** 31))
         cams = self.shapes.cameras(idx, self.augment, rng)
+        loss = getattr(net, "module", net)  # under DDP, the loss it wraps
+        # the outliers' own generator: the known batch draws from rng as it does without them
+        odd = None if self.outliers is None else self.outliers.inputs(key, stage, self.starts, loss)
         if stage == "joint":
-            loss = getattr(net, "module", net)  # under DDP, the loss it wraps
             return Inputs(rng, seed, cams, None, loss.candidate_depth(cams, rng)
-                          if hasattr(loss, "candidate_depth") else None)
+                          if hasattr(loss, "candidate_depth") else None, odd)
         views = [self.limits.random_views(rng, self.cfg.views_per_shape) for _ in cams]
-        return Inputs(rng, seed, cams, views, depth_layer.render_batch(cams, views))
+        return Inputs(rng, seed, cams, views, depth_layer.render_batch(cams, views), odd)
 
     def loc_round(self, stage, epoch, epochs, net, opt):
         """Stage loc's epoch, a DAgger round: episodes on this rank's training shapes, then
@@ -277,11 +284,13 @@ class Trainer:
         if stage == "joint":
             starts = self.starts[inputs.rng.integers(0, len(self.starts), len(idx))]
             known = () if inputs.depth is None else inputs.depth  # imitation's (clean, seen)
-            return net(inputs.cameras, starts, y, *known)
+            odd = {} if inputs.outliers is None else {"outliers": inputs.outliers}
+            return net(inputs.cameras, starts, y, *known, **odd)
         k = self.cfg.views_per_shape
         depth = self.augment.images(torch.from_numpy(inputs.depth))
         views = torch.as_tensor(np.concatenate(inputs.views), dtype=torch.float32, device=self.device)
-        return net(depth.to(self.device), y.repeat_interleave(k), views)
+        odd = {} if inputs.outliers is None else {"outliers": inputs.outliers}
+        return net(depth.to(self.device), y.repeat_interleave(k), views, **odd)
 
     def log_epoch(self, stage, epoch, losses, accs):
         if self.rank != 0:

@@ -49,6 +49,12 @@ class TrainConfig:
     random_views: float = option(0.0, lo=0, hi=1, help=(
         "learned, imitation: chance that a training step looks somewhere random (imitation: an "
         "unvisited candidate), so the classifier learns from any sequence of views"))
+    # outliers.py: objects of no known class (the unknowns' train styles), taught to be unsure of
+    outliers: float = option(0.0, lo=0, help=(
+        "weight of the outlier-exposure loss: the cross-entropy to the uniform distribution of "
+        "generated unknown objects of their train styles, in pre-training's images and in an "
+        "episode of random views after each joint batch (policy imitation); 0 = off"))
+    outlier_batch: int = option(8, lo=1, hi=100_000, help="--outliers: unknown objects per batch")
     # every training view keeps inside the views a robot can take
     limits: ViewLimits = nested(ViewLimits, flat=True)
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS, help="stage 1 epochs")
@@ -123,6 +129,9 @@ class TrainConfig:
         if self.policy == "imitation" and not self.model.candidates:
             raise InputError("policy imitation needs a view-scoring head: set model.candidates "
                              "(--candidates 50)")
+        if self.outliers and self.joint_epochs and self.policy != "imitation":
+            raise InputError(f"outliers: the joint stage's outlier episodes are imitation's (random "
+                             f"candidate views), not policy {self.policy}'s: use policy imitation or outliers 0")
         if self.initial_step is not None:  # refuse it now, not after pre-training
             initial_step_bias(self.initial_step, self.model.max_step)
         if self.stage == "loc" and not self.resume:

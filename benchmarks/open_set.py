@@ -15,21 +15,23 @@ Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of un
 accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
 the known validation objects after 3, 6 and 9 views, the share of known test objects answered
 unknown, the share of unknown ones answered unknown, and the known accuracy counting an unknown
-answer as wrong. Writes docs/results/modelnet10/open_set.json (a partial run must give --out);
-the last line is JSON.
+answer as wrong. Where the checkpoint carries its own open_set (python -m
+active_recognition.open_set_fit), the same three at its stored threshold, after 3, 6 and 9 views
+and at each episode's end (key `stored`). Writes docs/results/modelnet10/open_set.json (a partial
+run must give --out); the last line is JSON.
 
     python benchmarks/open_set.py --dataset modelnet --root ~/data/ModelNet10 [--objects 50 --out F]
 """
 import argparse
 from pathlib import Path
 
-import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint, open_set
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import EvalConfig, checkpoint_split, sample_episodes
+from active_recognition.open_set_fit import episodes
 from active_recognition.options import add_flags
 from active_recognition.report import write_json
 from active_recognition.validation import InputError
@@ -42,10 +44,23 @@ def r4(x):
     return round(float(x), 4)
 
 
-def episodes(planner, model, shapes, objects, cfg):
-    """(Rollout, record of logits and states) of one episode per object, each from a seeded start."""
-    starts = np.random.default_rng(cfg.seed).integers(0, len(cfg.limits.initial_views(50)), len(objects))
-    return open_set.recorded_rollout(planner, model, shapes, np.asarray(objects), starts, cfg)
+def stored_point(entry, known, unknown):
+    """The operating point of the checkpoint's own open_set (prototype_mean against its class
+    means and threshold) on the test runs known and unknown ((Rollout, record) each): known
+    rejected, unknown flagged and known accuracy (an unknown answer wrong) after 3, 6 and 9 views
+    and at each episode's end (its entropy stop, as the recognizer answers)."""
+    means = entry["means"].numpy()
+    (kro, krec), (uro, urec) = known, unknown
+    ks, us = (open_set.running_mean(open_set.prototype_steps(r["states"], means)) for r in (krec, urec))
+    right = kro.probs.argmax(-1) == kro.labels[:, None]
+    at = {str(k): (ks[:, k - 1], us[:, k - 1], right[:, k - 1]) for k in VIEWS if k <= ks.shape[1]}
+    at["end"] = (open_set.at_end(ks, kro.stopped_at), open_set.at_end(us, uro.stopped_at),
+                 open_set.at_end(right, kro.stopped_at))
+    thr = entry["threshold"]
+    return {"threshold": r4(thr), "fitted_on": entry.get("fitted_on", {}),
+            "known_rejected": {k: r4((kn > thr).mean()) for k, (kn, _, _) in at.items()},
+            "unknown_flagged": {k: r4((un > thr).mean()) for k, (_, un, _) in at.items()},
+            "known_accuracy": {k: r4((ok & (kn <= thr)).mean()) for k, (kn, _, ok) in at.items()}}
 
 
 def measure(known, unknown, steps):
@@ -96,14 +111,14 @@ def run(args):
     fit_ro, fit_rec = episodes(args.planner, model, train, subset_with_every_class(train.labels, fit_n, args.seed),
                                cfg)
     gaussians = open_set.fit_steps(fit_rec["states"], fit_ro.labels, len(classes), args.shrink)
-    runs = {}
+    runs, recs = {}, {}
     for name, shapes in (("known_test", test), ("unknown_test", unknown["test"]), ("known_val", val),
                          ("unknown_val", unknown["val"])):
         if args.objects > len(shapes):
             raise InputError(f"objects = {args.objects}, but {name} holds {len(shapes)} (0 = all of them)")
         objects, _ = sample_episodes(args.objects, len(shapes), 1, args.seed)
         ro, rec = episodes(args.planner, model, shapes, objects, cfg)
-        runs[name] = ro, open_set.scores(rec, gaussians)
+        runs[name], recs[name] = (ro, open_set.scores(rec, gaussians)), (ro, rec)
         print(f"{name}: {len(ro.objects)} objects", flush=True)
     sc = {name: s for name, (_, s) in runs.items()}
     auroc, fpr = measure(sc["known_test"], sc["unknown_test"], args.steps)
@@ -117,11 +132,13 @@ def run(args):
               "closed_set_accuracy": {str(k): r4(ro.accuracy()[k - 1]) for k in VIEWS if k <= args.steps}}
     record |= operating(sc["known_val"], sc["known_test"], sc["unknown_test"], ro, args.known_rate)
     record["unknown_flagged_by_kind"] = by_kind(runs["unknown_test"], chosen, record["operating_point"][chosen])
+    if model.open_set is not None:  # the checkpoint's own operating point (open_set_fit.py)
+        record["stored"] = stored_point(model.open_set, recs["known_test"], recs["unknown_test"])
     print_tables(record, args.steps)
     if args.out != "":
         write_json(Path(args.out), record)
     emit({k: record[k] for k in ("auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy")}
-         | {"chosen": chosen})
+         | {"chosen": chosen} | ({"stored": record["stored"]} if "stored" in record else {}))
 
 
 def print_tables(record, steps):
@@ -138,6 +155,12 @@ def print_tables(record, steps):
         print(f"{s:<18}" + "  ".join(" / ".join(cells[i:i + 3]) for i in range(0, len(cells), 3)))
     print(f"closed-set accuracy {record['closed_set_accuracy']}; chosen on val: {record['chosen']}")
     print(f"{record['chosen']}: unknown objects answered unknown, by kind: {record['unknown_flagged_by_kind']}")
+    if "stored" in record:
+        st = record["stored"]
+        print(f"the checkpoint's stored operating point (prototype_mean > {st['threshold']}): known rejected / "
+              f"unknown flagged / known accuracy after " + ", ".join(
+                  f"{k}: {st['known_rejected'][k]:.3f} / {st['unknown_flagged'][k]:.3f} / {st['known_accuracy'][k]:.3f}"
+                  for k in st["known_rejected"]))
 
 
 def main(argv=None):

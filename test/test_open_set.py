@@ -177,3 +177,142 @@ def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
         assert result["probability"] == pytest.approx(float(known.probs.max())) and result["views"] == known.views
     with pytest.raises(InputError, match="unknown_energy"):
         SensingConfig(unknown_energy=1.0)
+
+
+def stored_recognizer(tmp_path, name, means, threshold, sensing):
+    """An ActiveRecognizer on procedural.pt rewritten with a hand-made open_set entry."""
+    from active_recognition import checkpoint, open_set_fit
+    from active_recognition.reach import ViewLimits
+    from active_recognition.recognizer import ActiveRecognizer
+
+    path = tmp_path / f"{name}.pt"
+    entry = {"score": "prototype_mean", "means": torch.as_tensor(means, dtype=torch.float32),
+             "threshold": threshold, "fitted_on": {"by": "hand"}}
+    open_set_fit.store(checkpoint.shipped("procedural"), entry, path)
+    core = ActiveRecognizer(str(path), seed=1, limits=ViewLimits(0.0, 90.0))
+    core.reset(sensing=sensing)
+    return core
+
+
+def episode_states(core, sim):
+    """Run the recognizer's episode: (last observation, the recurrent state after each view)."""
+    obs, states = None, []
+    while not core.done:
+        obs = core.observe(sim.capture(*core.requested_pose(sim.k))[0], sim.k)
+        states.append(core.episode.hidden[0].numpy().copy())
+    return obs, np.array(states)
+
+
+def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_path):
+    """A checkpoint's open_set: states on a class mean end recognized; class means pointing
+    away from every state end unknown, the best guess kept; the score is computed here anew."""
+    from active_recognition.recognizer import SensingConfig
+    from active_recognition.simulated_camera import SimulatedCamera
+
+    sim = SimulatedCamera()
+    sim.load(dataset="procedural", split="test", index=0)
+    from active_recognition import checkpoint
+
+    model, _, _ = checkpoint.load_model(checkpoint.shipped("procedural"))
+    c, s = model.config.num_classes, model.config.state_size
+    rng = np.random.default_rng(0)
+    first = stored_recognizer(tmp_path, "random", rng.normal(size=(10, c, s)), 2.0, SensingConfig())
+    obs, states = episode_states(first, sim)
+    assert obs.status == "recognized" and len(states) == obs.views  # 2: nothing is above it
+    on = rng.normal(size=(10, c, s))
+    on[:len(states), 3] = states  # the episode's own states: class 3's means
+    away = rng.normal(size=(10, c, s))
+    away[:len(states)] = -states[:, None]  # every class's mean opposite the episode's state
+    runs = {}
+    for name, means, threshold in (("on", on, 0.05), ("away", away, 0.05), ("off", away, 0.05)):
+        sensing = SensingConfig(unknown_threshold=0.0 if name == "off" else -1.0)
+        core = stored_recognizer(tmp_path, name, means, threshold, sensing)
+        runs[name] = episode_states(core, sim)
+        np.testing.assert_allclose(runs[name][1], states, atol=1e-5)  # the same episode each time
+        unit = lambda v: v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-12)  # noqa: E731
+        expected = np.mean([1 - (unit(means[t]) @ unit(states[t])).max() for t in range(len(states))])
+        assert np.mean(core.prototypes) == pytest.approx(expected, abs=1e-5)
+        assert (expected > threshold) == (name != "on"), expected  # 0 on a mean, 2 opposite every one
+    assert runs["on"][0].status == runs["off"][0].status == "recognized"
+    unknown = runs["away"][0]
+    assert unknown.status == "unknown" and unknown.label == obs.label
+    assert unknown.result()["probability"] == pytest.approx(float(obs.probs.max()))
+    with pytest.raises(InputError, match="unknown_threshold"):
+        SensingConfig(unknown_threshold=-0.5)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda e: e.update(means=e["means"][:, :3]), "do not fit"),
+    (lambda e: e.update(means=e["means"][0]), "float tensor"),
+    (lambda e: e.update(threshold=3.0), "threshold"),
+    (lambda e: e.update(score="energy_mean"), "score"),
+    (lambda e: e.pop("means"), "means")])
+def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, message):
+    from active_recognition import checkpoint
+    from active_recognition.checkpoint import CheckpointError
+
+    ckpt = checkpoint.read(checkpoint.shipped("procedural"))
+    ckpt.pop("format")
+    c, s = len(ckpt["classes"]), checkpoint.build_model(ckpt).config.state_size
+    entry = {"score": "prototype_mean", "means": torch.zeros(4, c, s), "threshold": 0.3, "fitted_on": {}}
+    checkpoint.save(tmp_path / "good.pt", {**ckpt, "open_set": dict(entry)})
+    assert checkpoint.load_model(tmp_path / "good.pt")[0].open_set["threshold"] == 0.3
+    change(entry)
+    checkpoint.save(tmp_path / "bad.pt", {**ckpt, "open_set": entry})
+    with pytest.raises(CheckpointError, match=message):
+        checkpoint.load_model(tmp_path / "bad.pt")
+
+
+def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_path, dataset_cache, monkeypatch):
+    """fit on a few procedural objects: means (steps, C, S) equal to the class means of states
+    recorded anew, a threshold that accepts the asked share of the val objects' end scores, and a
+    checkpoint that loads (weights_only) with it."""
+    from active_recognition import checkpoint, open_set_fit
+    from active_recognition.datasets import open_splits, subset_with_every_class
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.evaluate import EvalConfig
+
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    path = checkpoint.shipped("procedural")
+    entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10)
+    model, classes, _ = checkpoint.load_model(path)
+    assert tuple(entry["means"].shape) == (3, len(classes), model.config.state_size)
+    cfg = EvalConfig(dataset="procedural", split="val", steps=3, size=False, shared=False)
+    size = model.config.image_size
+    camera = CameraConfig(size, size, radius=model.config.radius)
+    train = Shapes(open_splits("procedural", None, ("train",))["train"], camera)
+    objects = subset_with_every_class(train.labels, 20, 0)
+    ro, rec = open_set_fit.episodes("imitation", model, train, objects, cfg)
+    c = int(ro.labels[0])
+    np.testing.assert_allclose(entry["means"][:, c].numpy(), rec["states"][ro.labels == c].mean(0), rtol=1e-5)
+    fitted = entry["fitted_on"]
+    assert fitted["val_known"] == fitted["val_unknown"] == 10 and fitted["val_known_rejected"] <= 0.2
+    open_set_fit.store(path, entry, tmp_path / "stored.pt")
+    stored = torch.load(tmp_path / "stored.pt", weights_only=True)["open_set"]
+    assert stored["threshold"] == entry["threshold"] and torch.equal(stored["means"], entry["means"])
+    assert checkpoint.load_model(tmp_path / "stored.pt")[0].open_set["threshold"] == entry["threshold"]
+
+
+def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
+    """A checkpoint with its own open_set: the last JSON line also holds `stored`; at the largest
+    threshold (2: 1 - a cosine never exceeds it) nothing is rejected and the known accuracy is
+    the closed-set one."""
+    import json
+
+    from conftest import load_benchmark
+
+    from active_recognition import checkpoint, open_set_fit
+
+    model = checkpoint.load_model(checkpoint.shipped("procedural"))[0]
+    means = torch.rand(3, model.config.num_classes, model.config.state_size, generator=torch.Generator().manual_seed(0))
+    open_set_fit.store(checkpoint.shipped("procedural"), {"score": "prototype_mean", "means": means,
+                                                          "threshold": 2.0, "fitted_on": {}}, tmp_path / "s.pt")
+    out = tmp_path / "open_set.json"
+    load_benchmark("open_set").main(["--dataset", "procedural", "--checkpoint", str(tmp_path / "s.pt"),
+                                     "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
+    last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    stored, record = last["stored"], json.loads(out.read_text())
+    assert set(stored["known_rejected"]) == {"3", "end"} and stored["threshold"] == 2.0
+    assert all(v == 0 for key in ("known_rejected", "unknown_flagged") for v in stored[key].values())
+    assert stored["known_accuracy"]["3"] == record["closed_set_accuracy"]["3"]

@@ -1,0 +1,118 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""Outlier exposure (Hendrycks et al. 2019): training also sees objects of no known class and
+learns to be unsure of them, its logits pushed toward the uniform distribution.
+
+The outliers are the generated `unknowns` of their `train` styles only (datasets/unknowns.py):
+their `val` styles choose the open-set threshold, their `test` styles are never read by training.
+Each batch draws `outlier_batch` of them from a generator of its own, keyed like the batch's, so
+the known batch (its shapes, cameras, views and every draw of its generator) stays what it is
+without outliers. Pre-training renders them at random views like the known shapes; the joint
+stage runs an episode of them after the known one, each step at a random candidate not yet seen
+(there is no teacher without a label).
+"""
+from __future__ import annotations
+
+from contextlib import contextmanager
+from typing import NamedTuple
+
+import numpy as np
+import torch
+from torch import nn
+
+from . import depth_layer
+from .datasets import default_cache_dir, open_dataset
+from .datasets.shapes import Shapes
+from .episode import Episode, EpisodeConfig, Planner, run
+from .policies import unavailable
+from .reach import reach_of
+
+STREAM = 7919  # the last key of the outlier generator: apart from every known batch's
+PER_CLASS = None  # unknown objects per kind (None: the split's own count; tests take fewer)
+
+
+def uniform_ce(logits):
+    """The cross-entropy of softmax(logits) (N, C) to the uniform distribution, averaged over
+    the N rows: mean over rows of -mean over classes of log_softmax (log C at uniform logits)."""
+    return (-nn.functional.log_softmax(logits, -1).mean(-1)).mean()
+
+
+class OutlierInputs(NamedTuple):
+    """One batch's outliers, made with its inputs (Trainer.inputs): nothing here is drawn from
+    torch's generator, so a thread may make them ahead."""
+
+    weight: float
+    cameras: list
+    views: np.ndarray           # pre-training: (n * k, 2) views; joint: (n, 2) starts
+    depth: np.ndarray | None    # pre-training's images (n * k, H, W); joint: None (rendered as seen)
+    rng: np.random.Generator    # the joint episode's random choices
+
+
+class Outliers:
+    """The unknowns of the train styles seen as the known shapes are: the same camera and
+    augmentation, `batch` of them to a batch, their loss weighted by `weight`."""
+
+    def __init__(self, camera, augment, limits, weight, batch, views_per_shape):
+        ds = open_dataset("unknowns", split="train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
+        self.shapes, self.augment, self.limits = Shapes(ds, camera), augment, limits
+        self.weight, self.batch, self.k = weight, min(batch, len(ds)), views_per_shape
+
+    def inputs(self, key, stage, starts, loss=None):
+        """The outliers of the batch keyed `key` (the known batch's generator key) in `stage`;
+        `loss`: the joint stage's, which renders the candidate views."""
+        rng = np.random.default_rng([*key, STREAM])
+        idx = rng.choice(len(self.shapes), self.batch, replace=False)
+        cams = self.shapes.cameras(idx, self.augment, rng)
+        if stage == "joint":
+            return OutlierInputs(self.weight, cams, starts[rng.integers(0, len(starts), len(idx))],
+                                 None, rng)
+        views = [self.limits.random_views(rng, self.k) for _ in cams]
+        return OutlierInputs(self.weight, cams, np.concatenate(views), depth_layer.render_batch(cams, views), rng)
+
+
+@contextmanager
+def known_statistics(model):
+    """The model's batch norms normalise with their running statistics, and leave them as they
+    are, meanwhile: the outliers are seen as a test image is, and the statistics stay the known
+    shapes' (an outlier step of 8 images would else move them as far as a known step does)."""
+    norms = [m for m in model.modules() if isinstance(m, nn.modules.batchnorm._BatchNorm) and m.training]
+    for m in norms:
+        m.eval()
+    try:
+        yield
+    finally:
+        for m in norms:
+            m.train()
+
+
+def image_loss(model, o: OutlierInputs, corrupt, device):
+    """Pre-training: weight x uniform_ce of the outlier images' logits (after the known ones')."""
+    depth = torch.from_numpy(o.depth)
+    depth = (corrupt(depth) if corrupt is not None else depth).to(device)
+    views = torch.as_tensor(o.views, dtype=torch.float32, device=device)
+    with known_statistics(model):
+        return o.weight * uniform_ce(model.classify_image(depth, views))
+
+
+class RandomCandidates(Planner):
+    """Each step a random candidate view not yet seen and within reach (numpy's generator)."""
+
+    def __init__(self, candidates, rng):
+        self.candidates, self.rng = candidates, rng
+
+    def next_view(self, episode, step):
+        free = ~unavailable(episode, self.candidates)
+        draw = np.where(free, self.rng.random(free.shape), -1.0)  # a row with none free keeps its first
+        return self.candidates[draw.argmax(1)]
+
+
+def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits):
+    """The joint stage: weight x the mean over steps of uniform_ce of an outlier episode's
+    logits, its views random unvisited candidates, each rendered when taken (a tenth of every
+    candidate's render for a 10-step episode)."""
+    ep = Episode(model, EpisodeConfig(max_views=steps, entropy_threshold=0.0),
+                 planner=RandomCandidates(candidates, o.rng), reach=reach_of(limits))
+    with known_statistics(model):
+        out = run(ep, o.cameras, o.views, steps, corrupt=corrupt)
+    return o.weight * torch.stack([uniform_ce(s.logits) for s in out]).mean()

@@ -1,0 +1,111 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""Outlier exposure (outliers.py): the loss against numpy, the known batches untouched by the
+outliers' draws, and a tiny run whose outliers end less confidently classified than without."""
+import math
+
+import numpy as np
+import pytest
+import torch
+
+from active_recognition import outliers
+from active_recognition.losses import PretrainLoss
+from active_recognition.train import TrainConfig, Trainer, train
+from active_recognition.validation import InputError
+
+TINY = dict(pretrain_epochs=2, joint_epochs=1, batch_size=6, max_shapes=24, steps=2, views_per_shape=2,
+            eval_shapes=0, checkpoint_every=100, seed=5, policy="imitation", outlier_batch=4,
+            model={"hidden_size": 16, "feature_size": 16, "candidates": 8, "view_input": True})
+
+
+@pytest.fixture(autouse=True)
+def few_unknowns(dataset_cache, monkeypatch):
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    monkeypatch.setattr(outliers, "PER_CLASS", 3)  # 27 unknowns of the train styles
+
+
+def test_uniform_ce_matches_numpy():
+    logits = np.random.default_rng(0).normal(0, 3, (5, 7))
+    logp = logits - logits.max(1, keepdims=True)
+    logp -= np.log(np.exp(logp).sum(1, keepdims=True))
+    expected = np.mean([-np.mean(row) for row in logp])
+    assert outliers.uniform_ce(torch.tensor(logits)).item() == pytest.approx(expected, rel=1e-12)
+    assert outliers.uniform_ce(torch.zeros(3, 7)).item() == pytest.approx(math.log(7))  # its least
+
+
+def test_outliers_leave_the_known_batches_alone_and_add_their_own_term(tmp_path):
+    off = Trainer(TrainConfig(**TINY, out=str(tmp_path / "off")), progress=False)
+    on = Trainer(TrainConfig(**TINY, outliers=0.5, out=str(tmp_path / "on")), progress=False)
+    assert off.outliers is None and on.outliers.shapes.ds.split == "train"
+    for k, v in off.model.state_dict().items():
+        assert torch.equal(v, on.model.state_dict()[k]), k
+    idx = np.arange(6)
+    a, b = off.inputs("pretrain", 0, 1, idx, None), on.inputs("pretrain", 0, 1, idx, None)
+    assert a.outliers is None and b.outliers is not None and len(b.outliers.cameras) == 4
+    assert a.torch_seed == b.torch_seed and np.array_equal(a.depth, b.depth)
+    assert all(np.array_equal(x, y) for x, y in zip(a.views, b.views))
+    assert a.rng.random() == b.rng.random()  # the known generator stands where it stood
+    loss = PretrainLoss(on.model)
+    plain, _ = on.batch_loss("pretrain", loss, idx, b._replace(outliers=None))
+    total, _ = on.batch_loss("pretrain", loss, idx, b)
+    o = b.outliers
+    logits = on.model.classify_image(torch.from_numpy(o.depth), torch.as_tensor(o.views, dtype=torch.float32))
+    logp = torch.log_softmax(logits.double(), -1).detach().numpy()
+    assert (total - plain).item() == pytest.approx(0.5 * np.mean(-logp.mean(-1)), rel=1e-5)
+
+
+def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path):
+    from active_recognition.train import joint_loss
+
+    cfg = TrainConfig(**TINY, outliers=1.0, out=str(tmp_path / "on"))
+    run = Trainer(cfg, progress=False)
+    loss = joint_loss(cfg, run.model, run.corrupt)
+    inputs = run.inputs("joint", 0, 0, np.arange(6), loss)
+    assert inputs.outliers.depth is None and len(inputs.outliers.cameras) == 4  # rendered as taken
+    torch.manual_seed(0)
+    plain, acc = run.batch_loss("joint", loss, np.arange(6), inputs._replace(outliers=None))
+    torch.manual_seed(0)  # the same batch again: its inputs afresh, as batch_loss draws the starts from their rng
+    total, same = run.batch_loss("joint", loss, np.arange(6), run.inputs("joint", 0, 0, np.arange(6), loss))
+    term = (total - plain).item()
+    assert math.isfinite(term) and term >= math.log(len(run.classes)) - 1e-5  # Jensen: CE to uniform >= log C
+    assert acc == same
+
+
+def test_a_tiny_run_with_outliers_is_less_sure_of_them(tmp_path):
+    sure = {**TINY, "pretrain_epochs": 6, "joint_epochs": 0, "lr_pretrain": 5e-3}  # confident on what it knows
+    models = {w: train(TrainConfig(**sure, outliers=w, out=str(tmp_path / str(w))), progress=False)
+              for w in (0.0, 2.0)}
+    run = Trainer(TrainConfig(**TINY, outliers=1.0, out=str(tmp_path / "probe")), progress=False)
+    o = run.outliers.inputs([99], "pretrain", run.starts)
+    top = {}
+    for w, model in models.items():
+        with torch.no_grad():
+            logits = model.eval().classify_image(torch.from_numpy(o.depth),
+                                                 torch.as_tensor(o.views, dtype=torch.float32))
+        top[w] = torch.softmax(logits, -1).max(-1).values.mean().item()
+    assert top[2.0] < top[0.0] - 0.01, top  # seeded: 0.154 without, 0.125 with
+
+
+def test_outliers_need_imitation_for_the_joint_stage(tmp_path):
+    with pytest.raises(InputError, match="outliers"):
+        TrainConfig(**{**TINY, "policy": "learned"}, outliers=1.0, out=str(tmp_path / "x"))
+
+
+def test_outliers_leave_the_batch_norms_statistics_to_the_known_shapes():
+    """known_statistics: inside it a training model's batch norms use and keep their running
+    statistics (an outlier batch moves them not at all); after it they train again."""
+    from active_recognition.model import ModelConfig, RecurrentAttention
+    from active_recognition.outliers import known_statistics
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(encoder="wide", num_classes=3)).train()
+    norms = [m for m in model.modules() if isinstance(m, torch.nn.BatchNorm2d)]
+    before = [m.running_mean.clone() for m in norms]
+    depth = torch.rand(4, 64, 64) * 255
+    with known_statistics(model):
+        inside = model.features(depth)
+        assert not any(m.training for m in norms)
+    assert all(torch.equal(a, m.running_mean) for a, m in zip(before, norms))
+    assert all(m.training for m in norms)
+    model.eval()
+    torch.testing.assert_close(inside, model.features(depth))
