@@ -107,6 +107,9 @@ class Episode:
     # read each image's mirror image too (readout mean+mirror); None: as reads_mirror(model) says.
     # False where nobody reads the answers (training's episodes that only collect states)
     mirror: bool | None = None
+    # doubt(episode) -> (B,) bool, after each step's state: where True a confident answer does not
+    # stop the object (the recognizer's open-set hold: it looks unknown; max_views still stops it)
+    doubt: Callable | None = None
     _state: State | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
@@ -185,7 +188,10 @@ class Episode:
         s.info_gain.append((prev - h).detach())
         s.probs.append(probs)
         s.entropies.append(h.detach())
-        stop = (h.detach() < self.config.entropy_threshold) | (self.steps >= self.config.max_views)
+        stop = h.detach() < self.config.entropy_threshold
+        if self.doubt is not None:
+            stop = stop & ~torch.as_tensor(self.doubt(self), dtype=torch.bool, device=stop.device)
+        stop = stop | (self.steps >= self.config.max_views)
         s.stopped_at = torch.where(stop & ~s.done, self.steps, s.stopped_at)
         s.done = s.done | stop
         step = Step(logits, probs, h, None, self.done)

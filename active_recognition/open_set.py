@@ -193,3 +193,13 @@ def prototype_steps(states, means):
 def at_end(scores, stopped_at):
     """(N,) each row's score at its episode's end: scores (N, T), stopped_at (N,) 1-based."""
     return np.asarray(scores)[np.arange(len(scores)), np.asarray(stopped_at) - 1]
+
+
+def held_stops(probs, scores, entropy_threshold, threshold):
+    """(N,) 1-based: where each episode ends under the recognizer's hold (hold_unknown): at the
+    first step whose answer is confident (entropy below `entropy_threshold`) and whose running
+    score is at most `threshold`, else at its last step. probs (N, T, C), scores (N, T)."""
+    p = np.clip(np.asarray(probs, dtype=float), 1e-12, 1.0)
+    sure = -(p * np.log(p)).sum(-1) < entropy_threshold
+    ends = sure & (np.asarray(scores) <= threshold)
+    return np.where(ends.any(1), ends.argmax(1) + 1, ends.shape[1])

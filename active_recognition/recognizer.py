@@ -86,6 +86,10 @@ class SensingConfig:
         "its best class and probability kept; -1 = the checkpoint's own threshold (none where "
         "it carries no open_set: python -m active_recognition.open_set_fit), 0 = never; "
         "either this or unknown_energy suffices"))
+    hold_unknown: bool = option(True, help=(
+        "while the mean prototype score is above the unknown threshold, a confident answer does "
+        "not end the episode: the object that looks like none of the classes is looked at until "
+        "it looks like one, or for max_views"))
 
     def __post_init__(self):
         validate(self)
@@ -130,7 +134,7 @@ class ActiveRecognizer:
         planner = make_planner(self.planner, seed=seed, model=self.model,
                                fixed_path=ckpt.get("fixed_path"))
         self.episode = Episode(self.model, episode, planner, reach=self.reach,
-                               forward=single_step(self.model))
+                               forward=single_step(self.model), doubt=self.doubt)
         self.rng = np.random.default_rng(seed)
         self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
         # the views a planner chooses among (FC_view's, else the paper's 50): once every one it
@@ -260,11 +264,6 @@ class ActiveRecognizer:
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
         self.energies.append(float(energy(step.logits[0].numpy())))
-        if self.model.open_set is not None:  # this view's prototype score against its step's class means
-            means = self.model.open_set["means"]
-            t = min(self.episode.steps, len(means)) - 1  # a view past the fitted steps: the last step's
-            self.prototypes.append(float(Gaussians(means[t].numpy(), None).cosine(
-                self.episode.hidden[:1].detach().cpu().numpy())[0]))
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
             self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
@@ -272,6 +271,19 @@ class ActiveRecognizer:
         return Observation(status, probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
                            done, self.episode.steps, seen.view, seen.object_fraction)
+
+    def doubt(self, episode):
+        """The episode's hook after each step's state (Episode.doubt): scores the view (its
+        prototype score against its step's class means, where the checkpoint carries them) and
+        says whether a confident answer must wait (sensing.hold_unknown, while it looks unknown)."""
+        if self.model.open_set is not None:
+            means = self.model.open_set["means"]
+            t = min(episode.steps, len(means)) - 1  # a view past the fitted steps: the last step's
+            self.prototypes.append(float(Gaussians(means[t].numpy(), None).cosine(
+                episode.hidden[:1].detach().cpu().numpy())[0]))
+        held = self.sensing.hold_unknown and self.prototypes != [] and \
+            float(np.mean(self.prototypes)) > self.prototype_threshold()
+        return torch.tensor([held])
 
     def unknown(self):
         """Whether the evidence so far says the object is of none of the classes: the mean energy

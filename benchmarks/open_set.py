@@ -44,11 +44,12 @@ def r4(x):
     return round(float(x), 4)
 
 
-def stored_point(entry, known, unknown):
+def stored_point(entry, known, unknown, entropy_threshold=None):
     """The operating point of the checkpoint's own open_set (prototype_mean against its class
     means and threshold) on the test runs known and unknown ((Rollout, record) each): known
     rejected, unknown flagged and known accuracy (an unknown answer wrong) after 3, 6 and 9 views
-    and at each episode's end (its entropy stop, as the recognizer answers)."""
+    and at each episode's end (its entropy stop), and with `entropy_threshold` (the episodes')
+    at the end the recognizer's hold gives (`held`: a confident answer that looks unknown waits)."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
     ks, us = (open_set.running_mean(open_set.prototype_steps(r["states"], means)) for r in (krec, urec))
@@ -56,6 +57,10 @@ def stored_point(entry, known, unknown):
     at = {str(k): (ks[:, k - 1], us[:, k - 1], right[:, k - 1]) for k in VIEWS if k <= ks.shape[1]}
     at["end"] = (open_set.at_end(ks, kro.stopped_at), open_set.at_end(us, uro.stopped_at),
                  open_set.at_end(right, kro.stopped_at))
+    if entropy_threshold is not None:  # the recognizer's hold: a confident answer that looks unknown waits
+        kend, uend = (open_set.held_stops(ro.probs, sc, entropy_threshold, entry["threshold"])
+                      for ro, sc in ((kro, ks), (uro, us)))
+        at["held"] = (open_set.at_end(ks, kend), open_set.at_end(us, uend), open_set.at_end(right, kend))
     thr = entry["threshold"]
     return {"threshold": r4(thr), "fitted_on": entry.get("fitted_on", {}),
             "known_rejected": {k: r4((kn > thr).mean()) for k, (kn, _, _) in at.items()},
@@ -133,7 +138,8 @@ def run(args):
     record |= operating(sc["known_val"], sc["known_test"], sc["unknown_test"], ro, args.known_rate)
     record["unknown_flagged_by_kind"] = by_kind(runs["unknown_test"], chosen, record["operating_point"][chosen])
     if model.open_set is not None:  # the checkpoint's own operating point (open_set_fit.py)
-        record["stored"] = stored_point(model.open_set, recs["known_test"], recs["unknown_test"])
+        record["stored"] = stored_point(model.open_set, recs["known_test"], recs["unknown_test"],
+                                        cfg.entropy_threshold)
     print_tables(record, args.steps)
     if args.out != "":
         write_json(Path(args.out), record)

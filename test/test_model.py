@@ -105,6 +105,24 @@ def test_episode_stops_on_the_entropy_threshold():
     assert step.entropy.item() < 0.1 and bool(step.done) and ep.stopped_at.item() == 1
 
 
+def test_a_doubt_holds_a_confident_answer_until_it_clears_or_the_step_limit():
+    """Episode.doubt, called after each step's state: where it says True the entropy stop
+    waits; the step limit still ends the episode."""
+    seen = []
+
+    def doubt(episode):
+        seen.append(episode.steps)
+        return torch.tensor([episode.steps < 3])  # in doubt for the first two views
+    ep = Episode(confident_model(12.0), EpisodeConfig(max_views=10, entropy_threshold=0.1), doubt=doubt)
+    ep.reset([1.0, 0.5])
+    dones = [bool(ep.step(torch.full((64, 64), 255.0)).done) for _ in range(3)]
+    assert dones == [False, False, True] and ep.stopped_at.item() == 3 and seen == [1, 2, 3]
+    ep = Episode(confident_model(12.0), EpisodeConfig(max_views=2, entropy_threshold=0.1),
+                 doubt=lambda episode: torch.tensor([True]))
+    ep.reset([1.0, 0.5])
+    assert [bool(ep.step(torch.full((64, 64), 255.0)).done) for _ in range(2)] == [False, True]
+
+
 def test_episode_stops_on_the_step_limit_and_records_everything():
     ep = Episode(confident_model(0.5), EpisodeConfig(max_views=4, entropy_threshold=0.1))
     ep.reset([1.0, 0.5])

@@ -179,7 +179,7 @@ def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
         SensingConfig(unknown_energy=1.0)
 
 
-def stored_recognizer(tmp_path, name, means, threshold, sensing):
+def stored_recognizer(tmp_path, name, means, threshold, sensing, **episode):
     """An ActiveRecognizer on procedural.pt rewritten with a hand-made open_set entry."""
     from active_recognition import checkpoint, open_set_fit
     from active_recognition.reach import ViewLimits
@@ -189,7 +189,8 @@ def stored_recognizer(tmp_path, name, means, threshold, sensing):
     entry = {"score": "prototype_mean", "means": torch.as_tensor(means, dtype=torch.float32),
              "threshold": threshold, "fitted_on": {"by": "hand"}}
     open_set_fit.store(checkpoint.shipped("procedural"), entry, path)
-    core = ActiveRecognizer(str(path), seed=1, limits=ViewLimits(0.0, 90.0))
+    from active_recognition.episode import EpisodeConfig
+    core = ActiveRecognizer(str(path), EpisodeConfig(**episode), seed=1, limits=ViewLimits(0.0, 90.0))
     core.reset(sensing=sensing)
     return core
 
@@ -225,7 +226,7 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
     away[:len(states)] = -states[:, None]  # every class's mean opposite the episode's state
     runs = {}
     for name, means, threshold in (("on", on, 0.05), ("away", away, 0.05), ("off", away, 0.05)):
-        sensing = SensingConfig(unknown_threshold=0.0 if name == "off" else -1.0)
+        sensing = SensingConfig(unknown_threshold=0.0 if name == "off" else -1.0, hold_unknown=False)
         core = stored_recognizer(tmp_path, name, means, threshold, sensing)
         runs[name] = episode_states(core, sim)
         np.testing.assert_allclose(runs[name][1], states, atol=1e-5)  # the same episode each time
@@ -239,6 +240,31 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
     assert unknown.result()["probability"] == pytest.approx(float(obs.probs.max()))
     with pytest.raises(InputError, match="unknown_threshold"):
         SensingConfig(unknown_threshold=-0.5)
+    # hold_unknown (the default): the confident answer that looks unknown does not end the episode;
+    # an entropy threshold above log C makes every answer confident, so an unheld episode ends at once
+    ends = {}
+    for name, means, hold in (("held", away, True), ("unheld", away, False), ("known", on, True)):
+        core = stored_recognizer(tmp_path, name, means, 0.05, SensingConfig(hold_unknown=hold),
+                                 entropy_threshold=5.0)
+        ends[name] = episode_states(core, sim)
+    assert ends["unheld"][0].views == ends["known"][0].views == 1 and ends["known"][0].status == "recognized"
+    assert ends["unheld"][0].status == "unknown"
+    held, held_states = ends["held"]
+    assert held.status == "unknown" and held.views == 10  # max_views: it never looked known
+    np.testing.assert_allclose(held_states[:len(states)], states, atol=1e-5)  # the same views meanwhile
+
+
+def test_held_stops_end_at_the_first_confident_step_that_looks_known():
+    """open_set.held_stops, the recognizer's hold measured after the fact: an episode ends at its
+    first step with entropy below the threshold and a score at most the threshold, else last."""
+    from active_recognition.open_set import held_stops
+    sure, unsure = [0.98, 0.01, 0.01], [0.4, 0.3, 0.3]
+    probs = np.array([[unsure, sure, sure, sure],    # confident from step 2, known-looking from 3
+                      [sure, sure, sure, sure],      # confident and known-looking at once
+                      [sure, unsure, sure, sure]])   # never known-looking: its last step
+    scores = np.array([[0.9, 0.5, 0.1, 0.1], [0.1, 0.1, 0.1, 0.1], [0.9, 0.9, 0.9, 0.9]])
+    np.testing.assert_array_equal(held_stops(probs, scores, 0.2, 0.3), [3, 1, 4])
+    np.testing.assert_array_equal(held_stops(probs, scores, 0.2, 1.0), [2, 1, 1])  # nothing held
 
 
 @pytest.mark.parametrize("change, message", [
