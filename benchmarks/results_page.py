@@ -304,26 +304,33 @@ def twins_learned_lead(s, _):
     return {"lead": pct(s["acc"]["learned"]["3"] - s["acc"]["straight"]["3"], "+.1f")}
 
 
-def turned(s, folder):
-    """The benchmark with every object turned by its own yaw within +-45 degrees (`planners.py
-    --yaw 45`)."""
-    yaw = folder.parent / f"{folder.name}-yaw45"
-    t = load(yaw / "summary.json")
+def turned(s, folder, yaw=45):
+    """The benchmark with every object turned by its own yaw within +-`yaw` degrees
+    (`planners.py --yaw 45`; 180: the heading unknown)."""
+    turn = folder.parent / f"{folder.name}-yaw{yaw:g}"
+    t = load(turn / "summary.json")
     if t is None:
         return None
-    return {"dataset": yaw.name.split("-")[0], "episodes": episodes(yaw),
-            "summary": f"{yaw.relative_to(yaw.parents[2])}/summary.json",
+    return {"dataset": turn.name.split("-")[0], "episodes": episodes(turn),
+            "summary": f"{turn.relative_to(turn.parents[2])}/summary.json",
             "own": accuracy_table(t), "shared": accuracy_table(t, "acc_shared", "stderr_3_shared")}
 
 
-def turned_lead(s, folder):
-    """The default planner's lead with the heading unknown, and what the heading costs it."""
-    t, best = load(folder.parent / f"{folder.name}-yaw45" / "summary.json"), s.get("default_planner")
+def turned_lead(s, folder, yaw=45):
+    """The default planner's lead with the heading turned, and what the turn costs it."""
+    t, best = load(folder.parent / f"{folder.name}-yaw{yaw:g}" / "summary.json"), s.get("default_planner")
     fixed = [p for p in ("random", "straight", "fixed") if t is not None and p in t["acc"]]
     if not fixed or best not in t["acc"]:
         return None
     return {**leads(t, best, fixed), "fixed": ", ".join(fixed),
-            "drop": pct(s["acc"][best]["3"] - t["acc"][best]["3"])}
+            "drop": pct(s["acc"][best]["3"] - t["acc"][best]["3"]),
+            "fixed_drop": pct(s["acc"]["fixed"]["3"] - t["acc"]["fixed"]["3"]) if "fixed" in t["acc"] else "-"}
+
+
+def modelnet_turned(results, build):
+    """build(ModelNet10's summary, its folder, 180): the heading unknown (`--yaw 180`)."""
+    s = load(results / "modelnet10" / "summary.json")
+    return None if s is None else build(s, results / "modelnet10", 180)
 
 
 def twins_training_time(s, _):
@@ -358,6 +365,8 @@ BUILDERS = {
     "modelnet_default": lambda r: modelnet_summary(r, ("default_planner",),
                                                    lambda s: {"planner": s["default_planner"]}),
     "modelnet_per_class": lambda r: modelnet_summary(r, ("per_class_3", "classes"), per_class),
+    "modelnet_yaw": lambda r: modelnet_turned(r, turned),
+    "modelnet_yaw_lead": lambda r: modelnet_turned(r, turned_lead),
     "twins": lambda r: twins(r, lambda s, folder: {"episodes": episodes(folder)}),
     "twins_headroom": lambda r: twins(r, lambda s, folder: headroom(folder / "difficulty.json")),
     "twins_tables": lambda r: twins(r, lambda s, folder: {"own": accuracy_table(s), "shared": shared(s)["table"]}),
