@@ -73,6 +73,19 @@ def test_posed_camera_renders_as_a_camera_around_the_moved_mesh(name):
     assert near / 6 > 0.999
 
 
+@pytest.mark.parametrize("name", AUGMENTS)
+def test_a_render_asks_embree_for_distances_alone_and_gets_the_traces_depth(name):
+    """render() traces without the face normals (embree's distance query): bit for bit the depth
+    of the full trace, for plain, posed and cropped cameras."""
+    v, f = lopsided()
+    base, views = DepthCamera(v, f, CONFIG), geometry.fibonacci_views(12)
+    for cam in (base, Augment(**AUGMENTS[name]).camera(v, None, CONFIG, np.random.default_rng(3), base=base)):
+        light = cam.trace(views, normals=False)
+        assert light.normals is None
+        np.testing.assert_array_equal(light.distance, cam.trace(views).distance)
+        np.testing.assert_array_equal(cam.render(views), cam.render_hits(cam.trace(views)))
+
+
 def test_posed_camera_moves_nothing_with_the_identity_and_keeps_its_base():
     v, f = lopsided()
     base = DepthCamera(v, f, CONFIG)
