@@ -58,9 +58,8 @@ class Outliers:
         self.shapes, self.augment, self.limits = Shapes(ds, camera), augment, limits
         self.weight, self.batch, self.k = weight, min(batch, len(ds)), views_per_shape
 
-    def inputs(self, key, stage, starts, loss=None):
-        """The outliers of the batch keyed `key` (the known batch's generator key) in `stage`;
-        `loss`: the joint stage's, which renders the candidate views."""
+    def inputs(self, key, stage, starts):
+        """The outliers of the batch keyed `key` (the known batch's generator key) in `stage`."""
         rng = np.random.default_rng([*key, STREAM])
         idx = rng.choice(len(self.shapes), self.batch, replace=False)
         cams = self.shapes.cameras(idx, self.augment, rng)

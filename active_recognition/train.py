@@ -32,6 +32,7 @@ from .devices import distributed, resolve_device, teacher_dtype, training_layout
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
 from .outliers import OutlierInputs, Outliers
+from .render_worker import AheadProcess, RenderWorker
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
 from .schedule import lr_factor, set_lr
 from .train_config import STAGES, TrainConfig, preset_config  # noqa: F401 (cli, tests)
@@ -116,6 +117,10 @@ class Trainer:
         self.corrupt = self.augment.images if self.augment.changes_images else None
         self.outliers = (Outliers(camera, self.augment, self.limits, cfg.outliers, cfg.outlier_batch,
                                   cfg.views_per_shape) if cfg.outliers else None)
+        if cfg.render_process and self.world > 1:
+            raise InputError("render_process: one process trains with a render worker; under torchrun "
+                             "each rank renders its own batches (leave out --render-process)")
+        self.worker = None  # render_worker.RenderWorker, started by the first epoch that wants it
         self.state = {"stage": 0, "epoch": 0, "batch": 0, "step": 0}
         self.rows, elapsed, self.opt_state, self.saved = [], 0.0, None, None
         if cfg.resume:
@@ -217,7 +222,12 @@ class Trainer:
         bar = tqdm(range(self.state["batch"], len(todo)), desc=f"{stage} {epoch + 1}/{epochs}",
                    disable=not self.progress or self.rank != 0, file=sys.stderr, leave=False)
         losses, accs = list(self.state.get("losses", [])), list(self.state.get("accs", []))  # kept by a resume
-        ahead = Ahead(lambda b: self.inputs(stage, epoch, b, todo[b], net), cfg.prefetch)
+        if cfg.render_process:  # a process of its own makes each batch's renders ahead
+            self.worker = self.worker or RenderWorker(cfg)
+            ahead = AheadProcess(self.worker, lambda b: (stage, epoch, b, todo[b]),
+                                 lambda b, made: self.remade(stage, epoch, b, todo[b], made))
+        else:
+            ahead = Ahead(lambda b: self.inputs(stage, epoch, b, todo[b], net), cfg.prefetch)
         for b in bar:
             loss, acc = self.train_step(stage, epoch, epochs, b, todo, net, opt,
                                         ahead.get(b, b + 1 if b + 1 < len(todo) else None))
@@ -244,18 +254,34 @@ class Trainer:
         opt.step()
         return loss.item(), acc.item()
 
-    def inputs(self, stage, epoch, b, idx, net) -> Inputs:
-        """What batch b (shapes idx) sees that the network does not change: its generator, the
-        seed of torch's, the augmented cameras, and pre-training's views and images or
-        imitation's candidate renders (a thread may make them ahead: nothing here draws from
-        torch's generator)."""
+    def draws(self, stage, epoch, b, idx):
+        """Batch b's first draws: (its generator's key, the generator, torch's seed, the
+        augmented cameras of shapes idx), and the outliers' inputs (their own generator)."""
         key = [self.cfg.seed, STAGES.index(stage), epoch, b, self.rank]
         rng = np.random.default_rng(key)
         seed = int(rng.integers(2 ** 31))
         cams = self.shapes.cameras(idx, self.augment, rng)
-        loss = getattr(net, "module", net)  # under DDP, the loss it wraps
+        return key, rng, seed, cams
+
+    def outlier_inputs(self, key, stage):
         # the outliers' own generator: the known batch draws from rng as it does without them
-        odd = None if self.outliers is None else self.outliers.inputs(key, stage, self.starts, loss)
+        return None if self.outliers is None else self.outliers.inputs(key, stage, self.starts)
+
+    def remade(self, stage, epoch, b, idx, made):
+        """Batch b's inputs from the part a render worker made (render_worker.py): its
+        cameras drawn again here, from the same seed, and its outliers."""
+        key, _, _, cams = self.draws(stage, epoch, b, idx)
+        rng, seed, views, depth = made
+        return Inputs(rng, seed, cams, views, depth, self.outlier_inputs(key, stage))
+
+    def inputs(self, stage, epoch, b, idx, net, outliers=True) -> Inputs:
+        """What batch b (shapes idx) sees that the network does not change: its generator, the
+        seed of torch's, the augmented cameras, and pre-training's views and images or
+        imitation's candidate renders (a thread or a process may make them ahead: nothing here
+        draws from torch's generator); with `outliers`, the batch's outliers."""
+        key, rng, seed, cams = self.draws(stage, epoch, b, idx)
+        loss = getattr(net, "module", net)  # under DDP, the loss it wraps
+        odd = self.outlier_inputs(key, stage) if outliers else None
         if stage == "joint":
             return Inputs(rng, seed, cams, None, loss.candidate_depth(cams, rng)
                           if hasattr(loss, "candidate_depth") else None, odd)
@@ -324,6 +350,9 @@ class Trainer:
             checkpoint.save(self.out / "pretrained.pt", self.payload())
 
     def finish(self):
+        if self.worker is not None:
+            self.worker.close()
+            self.worker = None
         if self.rank == 0:
             checkpoint.stop_if_diverged(self.model, "the end", self.ckpt_path, self.saved)
             checkpoint.save(self.out / "final.pt", self.payload(

@@ -93,6 +93,9 @@ class TrainConfig:
     prefetch: bool = option(False, help=(
         "make each batch's cameras and renders on a thread while the network works on the batch "
         "before (the same batches, bit for bit; it pays where a core would idle)"))
+    render_process: bool = option(False, help=(
+        "make each batch's cameras and renders on a process of its own while the network works "
+        "on the batch before (the same batches, bit for bit; one process only, not under torchrun)"))
     teacher_precision: str = option("auto", choices=PRECISIONS, help=(
         "imitation: the precision of the teacher's pass over the 50 candidate views (no gradient "
         "flows there, it only ranks them): auto is bfloat16 where the hardware runs it fast "

@@ -341,14 +341,24 @@ def test_a_resume_with_settings_that_fix_the_batches_changed_is_refused(tmp_path
     train(TrainConfig(**{**TINY, "joint_epochs": 1, "eval_shapes": 0}, out=out, resume=True), progress=False)
 
 
-def test_prefetched_batches_train_the_same_weights_bit_for_bit(tmp_path):
+@pytest.mark.parametrize("ahead", [{"prefetch": True}, {"render_process": True}])
+def test_batches_made_ahead_train_the_same_weights_bit_for_bit(tmp_path, ahead):
     """--prefetch makes each batch's augmented cameras and renders on a thread ahead of the
-    network (ahead.py): every draw comes from the batch's own generator, so the run is the same."""
+    network (ahead.py), --render-process on a process of its own (render_worker.py): every draw
+    comes from the batch's own generator, so the run is the same."""
     cfg = {**TINY, "policy": "imitation", "joint_epochs": 1, "mirror": 0.5, "stretch": 0.2,
            "frame_error": 0.05, "floor_cut": 0.05, "dropout": 0.1,
            "model": {**TINY["model"], "candidates": 8, "view_input": True}}
     train(TrainConfig(**cfg, out=str(tmp_path / "a")), progress=False)
-    train(TrainConfig(**cfg, prefetch=True, out=str(tmp_path / "b")), progress=False)
+    train(TrainConfig(**cfg, **ahead, out=str(tmp_path / "b")), progress=False)
     a, b = weights(tmp_path / "a" / "final.pt"), weights(tmp_path / "b" / "final.pt")
     assert a.keys() == b.keys()
     assert all(torch.equal(a[k], b[k]) for k in a)
+
+
+def test_a_render_worker_that_cannot_start_says_why(tmp_path):
+    """render_worker.RenderWorker: the worker's own error reaches the trainer, in its words."""
+    from active_recognition.render_worker import RenderWorker
+    cfg = TrainConfig(**TINY, dataset="modelnet", root=str(tmp_path / "nowhere"), out=str(tmp_path / "o"))
+    with pytest.raises(RuntimeError, match="render worker failed:(.|\n)*nowhere"):
+        RenderWorker(cfg)
