@@ -19,14 +19,13 @@ import traceback
 from dataclasses import replace
 
 
-def serve(conn, cfg):
-    """The worker: a Trainer of `cfg` answering (stage, epoch, b, idx) with batch b's made part."""
+def serve(conn, cfg, trainer, joint_loss):
+    """The worker: a `trainer` (train.Trainer) of `cfg` answering (stage, epoch, b, idx) with
+    batch b's made part; `joint_loss` (train.joint_loss) gives it the joint stage's renders."""
     import torch
-
-    from .train import Trainer, joint_loss
     torch.set_num_threads(1)
     try:
-        run = Trainer(cfg, progress=False)
+        run = trainer(cfg, progress=False)
         loss = joint_loss(cfg, run.model, run.corrupt)
     except Exception:  # noqa: BLE001 (said to the trainer, which raises it)
         conn.send(("error", traceback.format_exc()))
@@ -42,15 +41,17 @@ def serve(conn, cfg):
 
 
 class RenderWorker:
-    """A spawned process making batches for a Trainer of options `cfg` (train.Trainer): ask(...)
-    starts one, take(b) waits for it. One at a time, in the order asked."""
+    """A spawned process making batches for a `trainer` of options `cfg` (train.Trainer, and
+    train.joint_loss: passed in, so this module imports neither): ask(...) starts one, take(b)
+    waits for it. One at a time, in the order asked."""
 
-    def __init__(self, cfg):
+    def __init__(self, cfg, trainer, joint_loss):
         ctx = multiprocessing.get_context("spawn")  # a fork would copy torch's and embree's threads
         self.conn, child = ctx.Pipe()
         worker_cfg = replace(cfg, resume=False, render_process=False, prefetch=False, outliers=0.0,
                              eval_shapes=0)
-        self.proc = ctx.Process(target=serve, args=(child, worker_cfg), daemon=True, name="render-worker")
+        self.proc = ctx.Process(target=serve, args=(child, worker_cfg, trainer, joint_loss),
+                                daemon=True, name="render-worker")
         self.proc.start()
         child.close()
         self.asked = []

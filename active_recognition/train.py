@@ -223,7 +223,7 @@ class Trainer:
                    disable=not self.progress or self.rank != 0, file=sys.stderr, leave=False)
         losses, accs = list(self.state.get("losses", [])), list(self.state.get("accs", []))  # kept by a resume
         if cfg.render_process:  # a process of its own makes each batch's renders ahead
-            self.worker = self.worker or RenderWorker(cfg)
+            self.worker = self.worker or RenderWorker(cfg, Trainer, joint_loss)
             ahead = AheadProcess(self.worker, lambda b: (stage, epoch, b, todo[b]),
                                  lambda b, made: self.remade(stage, epoch, b, todo[b], made))
         else:

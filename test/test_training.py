@@ -359,6 +359,7 @@ def test_batches_made_ahead_train_the_same_weights_bit_for_bit(tmp_path, ahead):
 def test_a_render_worker_that_cannot_start_says_why(tmp_path):
     """render_worker.RenderWorker: the worker's own error reaches the trainer, in its words."""
     from active_recognition.render_worker import RenderWorker
+    from active_recognition.train import Trainer, joint_loss
     cfg = TrainConfig(**TINY, dataset="modelnet", root=str(tmp_path / "nowhere"), out=str(tmp_path / "o"))
     with pytest.raises(RuntimeError, match="render worker failed:(.|\n)*nowhere"):
-        RenderWorker(cfg)
+        RenderWorker(cfg, Trainer, joint_loss)
