@@ -16,7 +16,7 @@ from torch import nn
 
 from . import depth_layer, geometry
 from .episode import Episode, EpisodeConfig, Planner, run
-from .outliers import episode_loss as outlier_episode, image_loss as outlier_images
+from .outliers import episode_loss as outlier_episode, images as outlier_images, uniform_ce
 from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
 from .validation import InputError
@@ -42,10 +42,14 @@ class PretrainLoss(nn.Module):
         self.model, self.corrupt = model, corrupt  # corrupt: the outliers' images (outliers.py)
 
     def forward(self, depth, labels, views=None, outliers=None):
-        logits = self.model.classify_image(depth, views)
-        loss = nn.functional.cross_entropy(logits, labels)
-        if outliers is not None:  # after the known images, so theirs are what they are without
-            loss = loss + outlier_images(self.model, outliers, self.corrupt, depth.device)
+        if outliers is None:
+            logits = self.model.classify_image(depth, views)
+            loss = nn.functional.cross_entropy(logits, labels)
+        else:  # in one batch with the known images, so the batch norms see both (as Hendrycks et al.)
+            odepth, oviews = outlier_images(outliers, self.corrupt, depth.device)
+            both = self.model.classify_image(torch.cat([depth, odepth]), torch.cat([views, oviews]))
+            logits = both[:len(depth)]
+            loss = nn.functional.cross_entropy(logits, labels) + outliers.weight * uniform_ce(both[len(depth):])
         return loss, (logits.argmax(1) == labels).float().mean()
 
 

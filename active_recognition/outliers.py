@@ -71,27 +71,28 @@ class Outliers:
 
 
 @contextmanager
-def known_statistics(model):
-    """The model's batch norms normalise with their running statistics, and leave them as they
-    are, meanwhile: the outliers are seen as a test image is, and the statistics stay the known
-    shapes' (an outlier step of 8 images would else move them as far as a known step does)."""
-    norms = [m for m in model.modules() if isinstance(m, nn.modules.batchnorm._BatchNorm) and m.training]
+def running_statistics_kept(model):
+    """Meanwhile the model's batch norms normalise by each batch's own statistics, as in any
+    training step, but leave their running statistics as they are (momentum 0): the joint
+    stage's outlier episode (8 images a step) would else move them as far as a known step does.
+    (Normalising the outliers by the running statistics instead, as at test time, broke a
+    ModelNet10 pre-training: the network learnt to tell the two normalisations apart.)"""
+    norms = [m for m in model.modules() if isinstance(m, nn.modules.batchnorm._BatchNorm)]
+    kept = [m.momentum for m in norms]
     for m in norms:
-        m.eval()
+        m.momentum = 0.0
     try:
         yield
     finally:
-        for m in norms:
-            m.train()
+        for m, momentum in zip(norms, kept):
+            m.momentum = momentum
 
 
-def image_loss(model, o: OutlierInputs, corrupt, device):
-    """Pre-training: weight x uniform_ce of the outlier images' logits (after the known ones')."""
+def images(o: OutlierInputs, corrupt, device):
+    """Pre-training's outlier images, corrupted as the known ones are, and their views."""
     depth = torch.from_numpy(o.depth)
     depth = (corrupt(depth) if corrupt is not None else depth).to(device)
-    views = torch.as_tensor(o.views, dtype=torch.float32, device=device)
-    with known_statistics(model):
-        return o.weight * uniform_ce(model.classify_image(depth, views))
+    return depth, torch.as_tensor(o.views, dtype=torch.float32, device=device)
 
 
 class RandomCandidates(Planner):
@@ -112,6 +113,6 @@ def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits):
     candidate's render for a 10-step episode)."""
     ep = Episode(model, EpisodeConfig(max_views=steps, entropy_threshold=0.0),
                  planner=RandomCandidates(candidates, o.rng), reach=reach_of(limits))
-    with known_statistics(model):
+    with running_statistics_kept(model):
         out = run(ep, o.cameras, o.views, steps, corrupt=corrupt)
     return o.weight * torch.stack([uniform_ce(s.logits) for s in out]).mean()

@@ -92,20 +92,40 @@ def test_outliers_need_imitation_for_the_joint_stage(tmp_path):
         TrainConfig(**{**TINY, "policy": "learned"}, outliers=1.0, out=str(tmp_path / "x"))
 
 
-def test_outliers_leave_the_batch_norms_statistics_to_the_known_shapes():
-    """known_statistics: inside it a training model's batch norms use and keep their running
-    statistics (an outlier batch moves them not at all); after it they train again."""
+def test_the_outlier_episode_leaves_the_batch_norms_running_statistics_alone():
+    """running_statistics_kept: inside it a training model's batch norms normalise by the batch's
+    own statistics (as a training step does) and keep their running ones; after it they update
+    again at their own momentum."""
     from active_recognition.model import ModelConfig, RecurrentAttention
-    from active_recognition.outliers import known_statistics
+    from active_recognition.outliers import running_statistics_kept
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(encoder="wide", num_classes=3)).train()
     norms = [m for m in model.modules() if isinstance(m, torch.nn.BatchNorm2d)]
     before = [m.running_mean.clone() for m in norms]
     depth = torch.rand(4, 64, 64) * 255
-    with known_statistics(model):
+    with running_statistics_kept(model):
         inside = model.features(depth)
-        assert not any(m.training for m in norms)
     assert all(torch.equal(a, m.running_mean) for a, m in zip(before, norms))
-    assert all(m.training for m in norms)
-    model.eval()
-    torch.testing.assert_close(inside, model.features(depth))
+    torch.testing.assert_close(inside, model.features(depth))  # batch statistics, as outside
+    assert not all(torch.equal(a, m.running_mean) for a, m in zip(before, norms))  # updating again
+
+
+def test_pretraining_sees_the_outliers_in_one_batch_with_the_known_images():
+    """PretrainLoss with outliers: one forward of known and outlier images together (a wide
+    encoder's batch norms see both, as in Hendrycks et al.), cross-entropy on the known part and
+    weight x uniform_ce on the rest, computed here again from the same batch."""
+    from active_recognition.losses import PretrainLoss
+    from active_recognition.model import ModelConfig, RecurrentAttention
+    from active_recognition.outliers import OutlierInputs
+    torch.manual_seed(0)
+    model = RecurrentAttention(ModelConfig(encoder="wide", num_classes=3)).train()
+    depth, labels = torch.rand(5, 64, 64) * 255, torch.tensor([0, 1, 2, 1, 0])
+    views = torch.rand(5, 2)
+    o = OutlierInputs(0.5, [], np.random.default_rng(1).random((3, 2)).astype(np.float32),
+                      (np.random.default_rng(2).random((3, 64, 64)) * 255).astype(np.float32), None)
+    loss, _ = PretrainLoss(model)(depth, labels, views, o)
+    both = model.classify_image(torch.cat([depth, torch.from_numpy(o.depth)]),
+                                torch.cat([views, torch.from_numpy(o.views)])).double()
+    logp = torch.log_softmax(both, -1)
+    expected = torch.nn.functional.nll_loss(logp[:5], labels) - 0.5 * logp[5:].mean()
+    assert loss.item() == pytest.approx(expected.item(), rel=1e-5)
