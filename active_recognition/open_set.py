@@ -195,11 +195,26 @@ def at_end(scores, stopped_at):
     return np.asarray(scores)[np.arange(len(scores)), np.asarray(stopped_at) - 1]
 
 
+def confident(probs, entropy_threshold):
+    """(N, T) bool: the steps whose answer (probs (N, T, C)) has entropy below the threshold."""
+    p = np.clip(np.asarray(probs, dtype=float), 1e-12, 1.0)
+    return -(p * np.log(p)).sum(-1) < entropy_threshold
+
+
+def held_scores(probs, scores, entropy_threshold):
+    """(N,) the least threshold at which each episode ends accepted under the hold: the least of
+    its running scores (N, T) at a confident step and at its last step (there it ends whatever
+    the score). So under the hold an object is answered `unknown` exactly where this is above
+    the threshold, and a threshold accepting a share of known objects is that share's quantile
+    of it (threshold_at), as for a score at a fixed view."""
+    scores = np.asarray(scores, dtype=float)
+    at_sure = np.where(confident(probs, entropy_threshold), scores, np.inf).min(1)
+    return np.minimum(at_sure, scores[:, -1])
+
+
 def held_stops(probs, scores, entropy_threshold, threshold):
     """(N,) 1-based: where each episode ends under the recognizer's hold (hold_unknown): at the
     first step whose answer is confident (entropy below `entropy_threshold`) and whose running
     score is at most `threshold`, else at its last step. probs (N, T, C), scores (N, T)."""
-    p = np.clip(np.asarray(probs, dtype=float), 1e-12, 1.0)
-    sure = -(p * np.log(p)).sum(-1) < entropy_threshold
-    ends = sure & (np.asarray(scores) <= threshold)
+    ends = confident(probs, entropy_threshold) & (np.asarray(scores) <= threshold)
     return np.where(ends.any(1), ends.argmax(1) + 1, ends.shape[1])

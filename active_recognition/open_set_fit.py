@@ -8,8 +8,9 @@ of 1 - the largest cosine similarity of the step's recurrent state to a class me
 The per-step class means (steps, classes, state size) are fitted on the states of episodes of
 --objects training objects (the training split less val, each class in the sample), each run by
 --planner (default imitation, the shipped model's own) from a seeded initial view, from the
-images alone. The threshold is the score, at each episode's end (its entropy stop, else its last
-view), that accepts --known-rate of the known validation objects (the dataset's val split): the
+images alone. The threshold is the one that accepts --known-rate of the known validation objects
+at the end the recognizer gives their episodes (hold_unknown: a confident answer waits while the
+score is above the threshold; open_set.held_scores) (the dataset's val split): the
 default 0.97 rejects about 3 % of them, a margin below the 5 % the test split may lose. The
 unknowns' val styles (datasets/unknowns.py) are scored beside them and their share flagged kept
 in `fitted_on`; their test styles are never read. The checkpoint is rewritten atomically.
@@ -60,9 +61,11 @@ def fit_means(planner, model, shapes, objects, cfg):
 
 
 def end_scores(planner, model, shapes, objects, cfg, means):
-    """(N,) prototype_mean against `means` at the end of each object's episode (its entropy stop)."""
+    """(N,) prototype_mean against `means` where each object's episode would end accepted under
+    the recognizer's hold (open_set.held_scores: it keeps looking while the object looks unknown)."""
     ro, rec = episodes(planner, model, shapes, objects, cfg)
-    return open_set.at_end(open_set.running_mean(open_set.prototype_steps(rec["states"], means)), ro.stopped_at)
+    running = open_set.running_mean(open_set.prototype_steps(rec["states"], means))
+    return open_set.held_scores(ro.probs, running, cfg.entropy_threshold)
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="imitation", steps=10,

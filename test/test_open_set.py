@@ -342,3 +342,18 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
     assert set(stored["known_rejected"]) == {"3", "end"} and stored["threshold"] == 2.0
     assert all(v == 0 for key in ("known_rejected", "unknown_flagged") for v in stored[key].values())
     assert stored["known_accuracy"]["3"] == record["closed_set_accuracy"]["3"]
+
+
+def test_held_scores_are_the_least_threshold_that_accepts_each_episode_under_the_hold():
+    """open_set.held_scores against held_stops: at every threshold an episode ends accepted
+    (its running score at its held end at most the threshold) exactly where its held score is at
+    most the threshold."""
+    from active_recognition.open_set import held_scores, held_stops
+    rng = np.random.default_rng(0)
+    probs = rng.dirichlet(np.full(4, 0.3), size=(200, 6))
+    scores = np.cumsum(rng.random((200, 6)), 1) / np.arange(1, 7)
+    least = held_scores(probs, scores, 0.5)
+    for threshold in np.quantile(scores, [0.1, 0.3, 0.5, 0.7, 0.9]):
+        ends = held_stops(probs, scores, 0.5, threshold)
+        accepted = scores[np.arange(200), ends - 1] <= threshold
+        np.testing.assert_array_equal(accepted, least <= threshold)
