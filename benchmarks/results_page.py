@@ -323,14 +323,19 @@ def turned_lead(s, folder, yaw=45):
     if not fixed or best not in t["acc"]:
         return None
     return {**leads(t, best, fixed), "fixed": ", ".join(fixed),
-            "drop": pct(s["acc"][best]["3"] - t["acc"][best]["3"]),
-            "fixed_drop": pct(s["acc"]["fixed"]["3"] - t["acc"]["fixed"]["3"]) if "fixed" in t["acc"] else "-"}
+            "drop": pct(s["acc"][best]["3"] - t["acc"][best]["3"])}
 
 
-def modelnet_turned(results, build):
-    """build(ModelNet10's summary, its folder, 180): the heading unknown (`--yaw 180`)."""
-    s = load(results / "modelnet10" / "summary.json")
-    return None if s is None else build(s, results / "modelnet10", 180)
+def adaptive_lead(s, folder, yaw):
+    """Turned: the 3-view cost to fixed, imitation, learned and the default; imitation's lead."""
+    t, best = load(folder.parent / f"{folder.name}-yaw{yaw:g}" / "summary.json"), s.get("default_planner")
+    if t is None or any(p not in t["acc"] for p in ("fixed", "imitation", "learned", best)):
+        return None
+    names = ("fixed", "imitation", "learned")
+    return {**{f"{p}_change": pct(t["acc"][p]["3"] - s["acc"][p]["3"], "+.1f") for p in names},
+            **{k: pct(t[key]["imitation"]["3"] - t[key]["fixed"]["3"], "+.1f")
+               for k, key in (("lead", "acc"), ("lead_shared", "acc_shared"))},
+            "planner": best, "change": pct(t["acc"][best]["3"] - s["acc"][best]["3"], "+.1f")}
 
 
 def twins_training_time(s, _):
@@ -365,8 +370,8 @@ BUILDERS = {
     "modelnet_default": lambda r: modelnet_summary(r, ("default_planner",),
                                                    lambda s: {"planner": s["default_planner"]}),
     "modelnet_per_class": lambda r: modelnet_summary(r, ("per_class_3", "classes"), per_class),
-    "modelnet_yaw": lambda r: modelnet_turned(r, turned),
-    "modelnet_yaw_lead": lambda r: modelnet_turned(r, turned_lead),
+    "modelnet_yaw": lambda r: modelnet_summary(r, (), lambda s: turned(s, r / "modelnet10", 180)),
+    "modelnet_yaw_lead": lambda r: modelnet_summary(r, (), lambda s: adaptive_lead(s, r / "modelnet10", 180)),
     "twins": lambda r: twins(r, lambda s, folder: {"episodes": episodes(folder)}),
     "twins_headroom": lambda r: twins(r, lambda s, folder: headroom(folder / "difficulty.json")),
     "twins_tables": lambda r: twins(r, lambda s, folder: {"own": accuracy_table(s), "shared": shared(s)["table"]}),
