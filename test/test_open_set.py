@@ -339,7 +339,8 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
                                      "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     stored, record = last["stored"], json.loads(out.read_text())
-    assert set(stored["known_rejected"]) == {"3", "end"} and stored["threshold"] == 2.0
+    assert set(stored["known_rejected"]) == {"3", "end", "held"} and stored["threshold"] == 2.0
+    assert stored["known_accuracy"]["held"] == stored["known_accuracy"]["end"]  # nothing above it: no hold
     assert all(v == 0 for key in ("known_rejected", "unknown_flagged") for v in stored[key].values())
     assert stored["known_accuracy"]["3"] == record["closed_set_accuracy"]["3"]
 
