@@ -192,12 +192,12 @@ class DepthCamera:
             inv, shift, normal_map, diagonal = self.pose
             orig, dirs = self._rays(inv @ rot32, (orig32 - shift) @ inv.T)
         # embree writes each ray's hit distance into `dists`: inf stays where a ray misses
+        dists = np.full(b * n, np.inf, np.float32)
         if normals:
-            out = self.scene.run(orig, dirs, dists=np.full(b * n, np.inf, np.float32), output=1)
+            out = self.scene.run(orig, dirs, dists=dists, output=1)
             dist, normals = out["tfar"], out["Ng"]
         else:
-            dist, normals = self.scene.run(orig, dirs, dists=np.full(b * n, np.inf, np.float32),
-                                           query="DISTANCE"), None
+            dist, normals = self.scene.run(orig, dirs, dists=dists, query="DISTANCE"), None
         if self.crop is not None:  # hits outside the box read as misses
             hit = np.flatnonzero(np.isfinite(dist))
             if self.pose is not None and diagonal is None:  # a turn: the world's own rays
@@ -240,7 +240,7 @@ class DepthCamera:
 
     def metric(self, views) -> np.ndarray:
         """REP 118 depth in metres along the optical axis (B, H, W) float32, NaN = no return."""
-        return self.metric_hits(self.trace(views))
+        return self.metric_hits(self.trace(views, normals=False))
 
     def metric_hits(self, hits: Hits) -> np.ndarray:
         z = self.zdepth(hits)

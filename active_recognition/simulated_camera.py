@@ -168,7 +168,8 @@ class SimulatedCamera:
             return None
         position, rotation = orbit(position, optical_rotation, math.radians(s.pose_error_deg),
                                    self.rng)
-        hits = self.camera.trace_poses(position[None], geometry.rotation_from_optical(rotation)[None])
+        hits = self.camera.trace_poses(position[None], geometry.rotation_from_optical(rotation)[None],
+                                       normals=False)  # its depth alone
         z = self.camera.zdepth(hits)[0].astype(np.float64)
         if s.floor:  # opaque from both sides: from below (an arm's error) it hides everything
             rays = self.k.rays()
