@@ -185,9 +185,15 @@ def prototype_steps(states, means):
     """The prototype score of each step's state: states (N, T, S) against per-step class means
     (T', C, S), step t against means[min(t, T' - 1)] (an episode longer than the fit uses its
     last step's) -> (N, T)."""
-    states, means = np.asarray(states, dtype=float), np.asarray(means, dtype=float)
-    return np.stack([Gaussians(means[min(t, len(means) - 1)], None).cosine(states[:, t])
-                     for t in range(states.shape[1])], 1)
+    states = np.asarray(states, dtype=float)
+    return np.stack([prototype_at(states[:, t], means, t) for t in range(states.shape[1])], 1)
+
+
+def prototype_at(states, means, t):
+    """(N,) the prototype score of states (N, S) at step t (0-based) against per-step class
+    means (T', C, S): step t's means, or the last step's past the fit."""
+    means = np.asarray(means, dtype=float)
+    return Gaussians(means[min(t, len(means) - 1)], None).cosine(states)
 
 
 def at_end(scores, stopped_at):

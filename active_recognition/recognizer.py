@@ -26,7 +26,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
-from .open_set import Gaussians, energy
+from .open_set import energy, prototype_at
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -277,13 +277,9 @@ class ActiveRecognizer:
         prototype score against its step's class means, where the checkpoint carries them) and
         says whether a confident answer must wait (sensing.hold_unknown, while it looks unknown)."""
         if self.model.open_set is not None:
-            means = self.model.open_set["means"]
-            t = min(episode.steps, len(means)) - 1  # a view past the fitted steps: the last step's
-            self.prototypes.append(float(Gaussians(means[t].numpy(), None).cosine(
-                episode.hidden[:1].detach().cpu().numpy())[0]))
-        held = self.sensing.hold_unknown and self.prototypes != [] and \
-            float(np.mean(self.prototypes)) > self.prototype_threshold()
-        return torch.tensor([held])
+            self.prototypes.append(float(prototype_at(episode.hidden[:1].detach().cpu().numpy(),
+                                                      self.model.open_set["means"].numpy(), episode.steps - 1)[0]))
+        return torch.tensor([self.sensing.hold_unknown and self.looks_unknown()])
 
     def unknown(self):
         """Whether the evidence so far says the object is of none of the classes: the mean energy
@@ -293,6 +289,10 @@ class ActiveRecognizer:
         threshold = self.sensing.unknown_energy
         if threshold != 0 and self.energies and float(np.mean(self.energies)) > threshold:
             return True
+        return self.looks_unknown()
+
+    def looks_unknown(self):
+        """Whether the mean prototype score of the views so far is above the threshold in force."""
         return self.prototypes != [] and float(np.mean(self.prototypes)) > self.prototype_threshold()
 
     def prototype_threshold(self):

@@ -34,7 +34,7 @@ def serve(conn, cfg, trainer, joint_loss):
     while (ask := conn.recv()) is not None:
         stage, epoch, b, idx = ask
         try:
-            made = run.inputs(stage, epoch, b, idx, loss if stage == "joint" else None, outliers=False)
+            made = run.inputs(stage, epoch, b, idx, loss if stage == "joint" else None)  # cfg: no outliers
             conn.send(("made", (b, (made.rng, made.torch_seed, made.views, made.depth))))
         except Exception:  # noqa: BLE001
             conn.send(("error", traceback.format_exc()))
@@ -100,20 +100,14 @@ class AheadProcess:
 
     def __init__(self, worker, request, finish):
         self.worker, self.request, self.finish = worker, request, finish
-        self.pending = set()
 
     def get(self, b, following=None):
-        if b not in self.pending:
-            self.worker.ask(*self.request(b))
-            self.pending.add(b)
-        if following is not None and following not in self.pending:
-            self.worker.ask(*self.request(following))  # before waiting: it renders while b trains
-            self.pending.add(following)
-        self.pending.discard(b)
+        for want in (b, following):  # `following` before waiting: it renders while b trains
+            if want is not None and want not in self.worker.asked:
+                self.worker.ask(*self.request(want))
         return self.finish(b, self.worker.take(b))
 
     def close(self):
         """Collect what was asked ahead and not used (the epoch's end)."""
-        for b in sorted(self.pending):
-            self.worker.take(b)
-        self.pending.clear()
+        while self.worker.asked:
+            self.worker.take(self.worker.asked[0])

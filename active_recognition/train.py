@@ -256,7 +256,7 @@ class Trainer:
 
     def draws(self, stage, epoch, b, idx):
         """Batch b's first draws: (its generator's key, the generator, torch's seed, the
-        augmented cameras of shapes idx), and the outliers' inputs (their own generator)."""
+        augmented cameras of shapes idx)."""
         key = [self.cfg.seed, STAGES.index(stage), epoch, b, self.rank]
         rng = np.random.default_rng(key)
         seed = int(rng.integers(2 ** 31))
@@ -274,14 +274,14 @@ class Trainer:
         rng, seed, views, depth = made
         return Inputs(rng, seed, cams, views, depth, self.outlier_inputs(key, stage))
 
-    def inputs(self, stage, epoch, b, idx, net, outliers=True) -> Inputs:
+    def inputs(self, stage, epoch, b, idx, net) -> Inputs:
         """What batch b (shapes idx) sees that the network does not change: its generator, the
         seed of torch's, the augmented cameras, and pre-training's views and images or
         imitation's candidate renders (a thread or a process may make them ahead: nothing here
-        draws from torch's generator); with `outliers`, the batch's outliers."""
+        draws from torch's generator), and the batch's outliers."""
         key, rng, seed, cams = self.draws(stage, epoch, b, idx)
         loss = getattr(net, "module", net)  # under DDP, the loss it wraps
-        odd = self.outlier_inputs(key, stage) if outliers else None
+        odd = self.outlier_inputs(key, stage)
         if stage == "joint":
             return Inputs(rng, seed, cams, None, loss.candidate_depth(cams, rng)
                           if hasattr(loss, "candidate_depth") else None, odd)
@@ -307,15 +307,14 @@ class Trainer:
         """(loss, accuracy) of one batch: single images of random views (pretrain) or whole
         episodes from one of the 50 initial views (joint)."""
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
+        odd = {} if inputs.outliers is None else {"outliers": inputs.outliers}
         if stage == "joint":
             starts = self.starts[inputs.rng.integers(0, len(self.starts), len(idx))]
             known = () if inputs.depth is None else inputs.depth  # imitation's (clean, seen)
-            odd = {} if inputs.outliers is None else {"outliers": inputs.outliers}
             return net(inputs.cameras, starts, y, *known, **odd)
         k = self.cfg.views_per_shape
         depth = self.augment.images(torch.from_numpy(inputs.depth))
         views = torch.as_tensor(np.concatenate(inputs.views), dtype=torch.float32, device=self.device)
-        odd = {} if inputs.outliers is None else {"outliers": inputs.outliers}
         return net(depth.to(self.device), y.repeat_interleave(k), views, **odd)
 
     def log_epoch(self, stage, epoch, losses, accs):

@@ -44,11 +44,11 @@ def r4(x):
     return round(float(x), 4)
 
 
-def stored_point(entry, known, unknown, entropy_threshold=None):
+def stored_point(entry, known, unknown, entropy_threshold):
     """The operating point of the checkpoint's own open_set (prototype_mean against its class
     means and threshold) on the test runs known and unknown ((Rollout, record) each): known
     rejected, unknown flagged and known accuracy (an unknown answer wrong) after 3, 6 and 9 views
-    and at each episode's end (its entropy stop), and with `entropy_threshold` (the episodes')
+    and at each episode's end (its entropy stop), and, with the episodes' `entropy_threshold`,
     at the end the recognizer's hold gives (`held`: a confident answer that looks unknown waits)."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
@@ -57,10 +57,9 @@ def stored_point(entry, known, unknown, entropy_threshold=None):
     at = {str(k): (ks[:, k - 1], us[:, k - 1], right[:, k - 1]) for k in VIEWS if k <= ks.shape[1]}
     at["end"] = (open_set.at_end(ks, kro.stopped_at), open_set.at_end(us, uro.stopped_at),
                  open_set.at_end(right, kro.stopped_at))
-    if entropy_threshold is not None:  # the recognizer's hold: a confident answer that looks unknown waits
-        kend, uend = (open_set.held_stops(ro.probs, sc, entropy_threshold, entry["threshold"])
-                      for ro, sc in ((kro, ks), (uro, us)))
-        at["held"] = (open_set.at_end(ks, kend), open_set.at_end(us, uend), open_set.at_end(right, kend))
+    kend, uend = (open_set.held_stops(ro.probs, sc, entropy_threshold, entry["threshold"])
+                  for ro, sc in ((kro, ks), (uro, us)))
+    at["held"] = (open_set.at_end(ks, kend), open_set.at_end(us, uend), open_set.at_end(right, kend))
     thr = entry["threshold"]
     return {"threshold": r4(thr), "fitted_on": entry.get("fitted_on", {}),
             "known_rejected": {k: r4((kn > thr).mean()) for k, (kn, _, _) in at.items()},
