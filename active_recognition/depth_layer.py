@@ -15,6 +15,7 @@ from __future__ import annotations
 import copy
 import functools
 import math
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -31,6 +32,7 @@ GRADIENT_RULES = ("paper", "surface")
 _POOL = ThreadPoolExecutor(max_workers=2)  # embree casts without the GIL: a worker per caller (--prefetch: 2)
 # One embree device for every scene: a device per scene crashes after a few thousand meshes.
 _DEVICE = rtcore.EmbreeDevice()
+_SCRATCH = threading.local()  # per thread: the ray directions of its last one-view cast
 
 
 @dataclass(frozen=True)
@@ -175,7 +177,7 @@ class DepthCamera:
         normals, which only the view gradient reads, where `normals` is False)."""
         views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
         rot = geometry.view_rotation(views[:, 0], views[:, 1])
-        return self.trace_poses(rot @ np.array([0.0, 0.0, self.config.radius]), rot, normals)
+        return self.trace_poses(rot[..., 2] * self.config.radius, rot, normals)  # R (0, 0, r)
 
     def trace_poses(self, origins, rotations, normals=True) -> Hits:
         """Cast rays from any poses: origins (B, 3), rotations (B, 3, 3) of the t = 0 frame;
@@ -216,7 +218,12 @@ class DepthCamera:
         """(origins, directions) (B N, 3) float32 of every pixel's ray from poses (B, 3, 3), (B, 3)."""
         n = len(self.local_dirs)
         if len(orig32) == 1:  # the common case: one view per camera per step
-            dirs = (rot32[0] @ self._dirs32_t).T            # (N, 3), a view of a (3, N) product
+            # (N, 3), a view of a (3, N) product into this thread's buffer (embree only reads it):
+            # a fresh 48 KiB a cast faulted pages in, which two threads take in turn
+            buf = getattr(_SCRATCH, "dirs", None)
+            if buf is None or buf.shape[1] != n:
+                buf = _SCRATCH.dirs = np.empty((3, n), np.float32)
+            dirs = np.matmul(rot32[0], self._dirs32_t, out=buf).T
             # every ray starts at the camera: a read-only stride-0 view, no copy (embree only
             # reads it; a fresh one per call, so one camera may trace in two threads)
             orig = np.ndarray((n, 3), np.float32, orig32, 0, (0, orig32.itemsize))
@@ -283,31 +290,54 @@ class DepthCamera:
 
 
 def both_cores(fn, items):
-    """[fn(x) for x in items], the first half on the pool's thread while this one does the rest:
-    embree casts rays without the GIL, so two halves take both cores with one hand-off (a
-    hand-off per item cost more than it gained)."""
+    """[fn(x) for x in items] on both cores (embree casts without the GIL): this thread and the
+    pool's take the next item from one shared counter, one hand-off a call (a future per item
+    cost more than it gained). fn must not depend on which thread runs it."""
     items = list(items)
     if len(items) < 2:
         return [fn(x) for x in items]
-    first = _POOL.submit(lambda part: [fn(x) for x in part], items[:(len(items) + 1) // 2])
-    rest = [fn(x) for x in items[(len(items) + 1) // 2:]]
-    return first.result() + rest
+    out = [None] * len(items)
+    todo = iter(range(len(items)))  # next() on it is atomic under the GIL: each index once
+
+    def work():
+        for i in todo:
+            out[i] = fn(items[i])
+
+    helper = _POOL.submit(work)
+    try:
+        work()
+    finally:
+        helper.exception()  # waits: no item still running once this returns or raises
+    helper.result()
+    return out
 
 
-def trace_all(cameras, views):
-    """Trace views[i] (2,) with cameras[i] on both cores: a list of one-view Hits."""
+def trace_all(cameras, views, normals=True):
+    """Trace views[i] (2,) with cameras[i] on both cores: a list of one-view Hits (without the
+    face normals where `normals` is False)."""
     views = np.asarray(views, dtype=np.float64).reshape(-1, 2)
     if len(cameras) != len(views):
         raise InputError(f"{len(cameras)} cameras for {len(views)} views")
-    return both_cores(lambda cv: cv[0].trace(cv[1]), zip(cameras, views))
+    return both_cores(lambda cv: cv[0].trace(cv[1], normals), zip(cameras, views))
 
 
 def render_batch(cameras, views):
     """Normalised depth (sum of B_i, H, W) of cameras[i] rendered at views[i] ((B_i, 2) each, or
-    one (B, 2) set for all), on both cores."""
+    one (B, 2) set for all): cast on both cores, normalised in one pass."""
     if len(views) and np.ndim(views[0]) == 1:
         views = [views] * len(cameras)
-    return np.concatenate(both_cores(lambda cv: cv[0].render(cv[1]), zip(cameras, views)))
+    return render_all(cameras, both_cores(lambda cv: cv[0].trace(cv[1], normals=False), zip(cameras, views)))
+
+
+def render_all(cameras, hits):
+    """Normalised depth of each camera's hits, concatenated: in one pass where the cameras share
+    their config and pixel table (the depths are elementwise, so bit for bit the same as one
+    camera at a time; the casting threads then hold the GIL only to set up their rays)."""
+    first = cameras[0] if len(cameras) else None
+    if first is None or not all(type(c) is DepthCamera and c.config == first.config
+                                and c._cos32 is first._cos32 for c in cameras):
+        return np.concatenate([c.render_hits(h) for c, h in zip(cameras, hits)])
+    return first.render_hits(Hits(None, None, np.concatenate([h.distance for h in hits]), None))
 
 
 class KnownViews:
@@ -318,9 +348,9 @@ class KnownViews:
         self.camera, self.depth = camera, depth  # depth (K, H, W) rendered at views (K, 2)
         self.known = {tuple(v): k for k, v in enumerate(np.asarray(views, dtype=np.float32))}
 
-    def trace(self, view):
+    def trace(self, view, normals=True):
         k = self.known.get(tuple(np.asarray(view, dtype=np.float32).ravel()))
-        return k if k is not None else self.camera.trace(view)
+        return k if k is not None else self.camera.trace(view, normals)
 
     def render_hits(self, hits):
         return self.depth[hits][None] if isinstance(hits, int) else self.camera.render_hits(hits)
@@ -336,8 +366,8 @@ class _RenderViews(torch.autograd.Function):
     @staticmethod
     def forward(ctx, views, cameras, rule, reduction):
         v = views.detach().cpu().numpy().astype(np.float64)
-        hits = trace_all(cameras, v)
-        depth = np.concatenate([c.render_hits(h) for c, h in zip(cameras, hits)])
+        hits = trace_all(cameras, v, normals=rule == "surface")  # only that rule reads them
+        depth = render_all(cameras, hits)
         ctx.cameras, ctx.hits, ctx.views, ctx.rule, ctx.reduction = cameras, hits, v, rule, reduction
         return torch.from_numpy(depth).to(views.device)
 

@@ -28,8 +28,8 @@ def view_rotation(theta, phi):
     t, p = np.asarray(theta, dtype=np.float64), np.asarray(phi, dtype=np.float64)
     if t.size == 1 and p.size == 1:  # one view (the renderer's common case): scalar maths
         ct, st, cp, sp = math.cos(t.item()), math.sin(t.item()), math.cos(p.item()), math.sin(p.item())
-        m = np.array([[cp * ct, -sp, cp * st], [sp * ct, cp, sp * st], [-st, 0.0, ct]])
-        return m.reshape(np.broadcast_shapes(t.shape, p.shape) + (3, 3))
+        m = np.array((cp * ct, -sp, cp * st, sp * ct, cp, sp * st, -st, 0.0, ct))
+        return m.reshape((t if t.ndim >= p.ndim else p).shape + (3, 3))  # one element: the longer shape
     ct, st, cp, sp = np.cos(t), np.sin(t), np.cos(p), np.sin(p)
     m = np.empty(np.broadcast(t, p).shape + (3, 3))
     m[..., 0, 0], m[..., 0, 1], m[..., 0, 2] = cp * ct, -sp, cp * st

@@ -28,7 +28,7 @@ from .ahead import Ahead
 from .datasets import default_cache_dir, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
-from .devices import distributed, resolve_device, teacher_dtype, training_layout
+from .devices import distributed, keep_freed_memory, resolve_device, teacher_dtype, training_layout
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
 from .outliers import OutlierInputs, Outliers
@@ -96,6 +96,7 @@ class Trainer:
 
     def __init__(self, cfg: TrainConfig, progress=True):
         self.cfg, self.progress = cfg, progress
+        keep_freed_memory()  # each step's large blocks reused, not faulted in afresh
         self.rank, self.world = distributed(cfg.device)
         self.device = resolve_device(cfg.device, self.rank)
         torch.manual_seed(cfg.seed)

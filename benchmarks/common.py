@@ -63,6 +63,22 @@ def median_ms(fn, repeat=30, warmup=3):
     return float(np.median(times) * 1e3)
 
 
+def paired_median_ms(fns, repeat=30, warmup=3):
+    """Medians (ms) of several ways of doing the same work, timed in turn, one call of each per
+    round: a drift in the machine's speed (other tenants, clocks) falls on all of them alike,
+    where timing one after the other would charge it to whichever ran in the slow spell."""
+    for _ in range(warmup):
+        for fn in fns:
+            fn()
+    times = [[] for _ in fns]
+    for _ in range(repeat):
+        for fn, out in zip(fns, times):
+            t = time.perf_counter()
+            fn()
+            out.append(time.perf_counter() - t)
+    return [float(np.median(t) * 1e3) for t in times]
+
+
 def emit(result):
     """Print the figures as the last line, JSON."""
     print(json.dumps({k: (round(v, 4) if isinstance(v, float) else v) for k, v in result.items()}))

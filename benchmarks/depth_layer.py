@@ -6,16 +6,19 @@
 ours     -- DepthCamera.render (ray set-up, embree, hit table, normalised depth)
 embreex  -- raw EmbreeScene.run(output=1) on the precomputed rays (distances + normals, as we need)
 trimesh  -- trimesh's RayMeshIntersector.intersects_location on the same rays, then the depth
-Also a batch of 32 views with one thread vs the two-thread pool. Medians; last line is JSON.
+Also a batch of 32 renders (32 cameras, a view each, as a training step renders them) with one
+thread vs both cores, timed in turn, and the same traced with face normals. Medians; last line
+is JSON.
 """
 import numpy as np
 import trimesh
-from common import emit, median_ms
+from common import emit, median_ms, paired_median_ms
 from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
 from active_recognition import geometry
-from active_recognition.depth_layer import CameraConfig, DepthCamera, _DEVICE, trace_all
+from active_recognition.depth_layer import CameraConfig, DepthCamera, _DEVICE, render_batch, trace_all
+from active_recognition.devices import keep_freed_memory
 from active_recognition.meshes import normalise
 
 
@@ -28,6 +31,7 @@ def rays(cam, view):
 
 
 def main():
+    keep_freed_memory()  # as training does
     # 20,480 faces, normalised into [-0.5, 0.5]^3 like every dataset mesh the camera sees
     mesh = trimesh.creation.icosphere(subdivisions=5, radius=1.0)
     mesh.vertices = normalise(mesh.vertices * [1.0, 0.7, 0.55])
@@ -58,12 +62,17 @@ def main():
         print(f"{size}x{size}: ours {ours:.3f} ms, raw embreex {raw:.3f} ms, trimesh {tri:.3f} ms")
     out["mrays_per_s"] = 64 * 64 / (out["ms_per_image_64"] * 1e-3) / 1e6
     cam = DepthCamera.from_mesh(mesh, CameraConfig(64, 64))
-    cams, views = [cam] * 32, np.tile(np.array(view), (32, 1))
-    one = median_ms(lambda: [c.trace(v) for c, v in zip(cams, views)], repeat=10)
-    two = median_ms(lambda: trace_all(cams, views), repeat=10)
+    cams, views = [cam] * 32, np.tile(np.array(view), (32, 1, 1))
+    # a training step's render: each of 32 cameras at its one view, distances only, normalised
+    one, two = paired_median_ms([lambda: np.concatenate([c.render(v) for c, v in zip(cams, views)]),
+                                 lambda: render_batch(cams, views)], repeat=200)
     out["batch32_one_thread_ms"], out["batch32_two_threads_ms"] = one, two
     out["two_thread_speedup"] = one / two
-    print(f"batch of 32 views: one thread {one:.1f} ms, two threads {two:.1f} ms")
+    print(f"batch of 32 renders: one thread {one:.1f} ms, two threads {two:.1f} ms")
+    one, two = paired_median_ms([lambda: [c.trace(v) for c, v in zip(cams, views)],
+                                 lambda: trace_all(cams, views[:, 0])], repeat=200)
+    out["traced_with_normals_speedup"] = one / two  # the hit tables the surface rule reads
+    print(f"the same 32 traced with face normals: one thread {one:.1f} ms, two threads {two:.1f} ms")
     emit(out)
 
 

@@ -11,8 +11,10 @@ import trimesh
 
 from active_recognition import geometry
 from active_recognition.augment import Augment
-from active_recognition.depth_layer import (CameraConfig, DepthCamera, KnownViews, float32_views,
-                                            render_batch, render_views, trace_all)
+from active_recognition.depth_layer import (CameraConfig, DepthCamera, KnownViews, both_cores,
+                                            float32_views, render_all, render_batch, render_views,
+                                            trace_all)
+from active_recognition.devices import keep_freed_memory
 from active_recognition.meshes import normalise
 
 CONFIG = CameraConfig(48, 48, radius=1.5)
@@ -117,6 +119,51 @@ def test_both_cores_render_what_one_renders(rng):
     np.testing.assert_array_equal(render_batch(cams, sets), np.concatenate([c.render(s) for c, s in zip(cams, sets)]))
     cands = geometry.fibonacci_views(5)
     np.testing.assert_array_equal(render_batch(cams, cands), np.concatenate([c.render(cands) for c in cams]))
+    bare = trace_all(cams, views, normals=False)  # the paper rule's renders: distances alone
+    assert all(h.normals is None for h in bare)
+    np.testing.assert_array_equal(np.concatenate([h.distance for h in bare]),
+                                  np.concatenate([h.distance for h in one]))
+    # one normalising pass over cameras that share their table, one at a time otherwise
+    other = DepthCamera(v, f, CameraConfig(48, 48, radius=2.0))
+    for group in (cams, cams[:3] + [other] + cams[3:]):
+        hits = [c.trace(x, normals=False) for c, x in zip(group, views)]
+        np.testing.assert_array_equal(render_all(group, hits),
+                                      np.concatenate([c.render_hits(h) for c, h in zip(group, hits)]))
+
+
+def test_both_cores_keep_the_order_and_raise_what_an_item_raises():
+    import threading
+    seen = set()
+
+    def square(x):
+        seen.add(threading.get_ident())
+        if x == 13:
+            raise ValueError("thirteen")
+        return x * x
+
+    assert both_cores(square, range(12)) == [x * x for x in range(12)]
+    assert both_cores(square, [5]) == [25] and both_cores(square, []) == []
+    with pytest.raises(ValueError, match="thirteen"):
+        both_cores(square, range(40))
+    with pytest.raises(ValueError, match="thirteen"):  # on either thread, first item or last
+        both_cores(square, range(13, 40))
+
+
+def test_two_threads_casting_one_camera_each_get_their_own_rays(rng):
+    """The one-view cast reads its directions from a per-thread buffer: two threads casting
+    different views of one camera at once get what each view gets alone."""
+    v, f = lopsided()
+    cam = DepthCamera(v, f, CONFIG)
+    views = rng.uniform([0.2, -np.pi], [np.pi - 0.2, np.pi], (64, 2))
+    alone = [cam.trace(x).distance for x in views]
+    for _ in range(3):
+        for a, b in zip(alone, both_cores(lambda x: cam.trace(x).distance, views)):
+            np.testing.assert_array_equal(a, b)
+
+
+def test_training_keeps_freed_memory_where_malloc_is_glibcs():
+    import platform
+    assert keep_freed_memory() is (platform.libc_ver()[0] == "glibc")
 
 
 def test_known_views_are_the_renders_an_episode_asks_for(rng):
