@@ -129,7 +129,9 @@ OPEN_SET_SCORE = "prototype_mean"  # the score of a checkpoint's "open_set" (ope
 
 def checked_open_set(entry, num_classes, state_size):
     """A checkpoint's `open_set` entry checked: {"score": "prototype_mean", "means": float tensor
-    (T, C, S), "threshold": float > 0, "fitted_on": dict}; InputError naming what is wrong."""
+    (T, C, S), "threshold": a number in (0, 2] or one per step (a list or 1-D tensor; past its
+    end, the last), "fitted_on": dict}; InputError naming what is wrong. The threshold comes
+    back as a list of floats, one per step (a single number: a list of one)."""
     if not isinstance(entry, dict) or not {"score", "means", "threshold"} <= set(entry):
         raise InputError("open_set must be a dict with score, means and threshold "
                          f"(got {sorted(entry) if isinstance(entry, dict) else type(entry).__name__})")
@@ -145,11 +147,14 @@ def checked_open_set(entry, num_classes, state_size):
     if not torch.isfinite(means).all():
         raise InputError("open_set means hold NaN or infinite values")
     threshold = entry["threshold"]
-    if type(threshold) not in (int, float) or not 0 < threshold <= 2:
-        raise InputError(f"open_set threshold must be a number in (0, 2] (1 - a cosine), got {threshold!r}")
+    steps = threshold.tolist() if torch.is_tensor(threshold) and threshold.ndim == 1 else (
+        list(threshold) if isinstance(threshold, (list, tuple)) else [threshold])
+    if not steps or any(type(t) not in (int, float) or not 0 < t <= 2 for t in steps):
+        raise InputError(f"open_set threshold must be a number in (0, 2] (1 - a cosine) or one per step, "
+                         f"got {threshold!r}")
     if not isinstance(entry.get("fitted_on", {}), dict):
         raise InputError("open_set fitted_on must be a dict")
-    return {**entry, "means": means.float(), "threshold": float(threshold)}
+    return {**entry, "means": means.float(), "threshold": [float(t) for t in steps]}
 
 
 def nonfinite(state_dict):

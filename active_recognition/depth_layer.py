@@ -331,35 +331,18 @@ def render_batch(cameras, views):
 
 def render_all(cameras, hits):
     """Normalised depth of each camera's hits, concatenated: in one pass where the cameras share
-    their config and pixel table (the depths are elementwise, so bit for bit the same as one
-    camera at a time; the casting threads then hold the GIL only to set up their rays)."""
-    first = cameras[0] if len(cameras) else None
-    if first is None or not all(type(c) is DepthCamera and c.config == first.config
-                                and c._cos32 is first._cos32 for c in cameras):
+    their table (the casting threads then hold the GIL only to set up their rays)."""
+    if not shared_table(cameras):
         return np.concatenate([c.render_hits(h) for c, h in zip(cameras, hits)])
-    return first.render_hits(Hits(None, None, np.concatenate([h.distance for h in hits]), None))
+    return cameras[0].render_hits(Hits(None, None, np.concatenate([h.distance for h in hits]), None))
 
 
-class KnownViews:
-    """A camera whose renders at some views are known already (imitation's candidates, each
-    episode's every view): a trace at one of them is a look-up, any other view is cast."""
-
-    def __init__(self, camera, views, depth):
-        self.camera, self.depth = camera, depth  # depth (K, H, W) rendered at views (K, 2)
-        self.known = {tuple(v): k for k, v in enumerate(np.asarray(views, dtype=np.float32))}
-
-    def trace(self, view, normals=True):
-        k = self.known.get(tuple(np.asarray(view, dtype=np.float32).ravel()))
-        return k if k is not None else self.camera.trace(view, normals)
-
-    def render_hits(self, hits):
-        return self.depth[hits][None] if isinstance(hits, int) else self.camera.render_hits(hits)
-
-
-def float32_views(views):
-    """views (K, 2) rounded to float32 as an episode holds them (float64): a render there is the
-    one an episode's view asks for, bit for bit."""
-    return np.asarray(views, dtype=np.float32).astype(np.float64)
+def shared_table(cameras):
+    """Whether these are DepthCameras of one config and pixel table, so their depths normalise
+    in one pass (elementwise: bit for bit the same as one camera at a time)."""
+    first = cameras[0] if len(cameras) else None
+    return first is not None and all(type(c) is DepthCamera and c.config == first.config
+                                     and c._cos32 is first._cos32 for c in cameras)
 
 
 class _RenderViews(torch.autograd.Function):

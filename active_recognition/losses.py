@@ -158,7 +158,7 @@ class ImitationLoss(nn.Module, Planner):
         views (float32) an episode holds, so its steps look them up, and the teacher's copy of
         them, corrupted by the augmentation (drawn from numpy's `rng` where given, else from
         torch's generator). Trainer.inputs may make them ahead, on a thread."""
-        clean = depth_layer.render_batch(cameras, depth_layer.float32_views(self.candidates))
+        clean = depth_layer.render_batch(cameras, float32_views(self.candidates))
         clean = clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
         return clean, self.corrupt(torch.from_numpy(clean), rng=rng)
 
@@ -174,7 +174,7 @@ class ImitationLoss(nn.Module, Planner):
         self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      planner=self, reach=reach_of(self.limits))
-        known = [depth_layer.KnownViews(c, self.candidates, d) for c, d in zip(cameras, clean)]
+        known = [KnownViews(c, self.candidates, d) for c, d in zip(cameras, clean)]
         out = run(ep, known, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         if outliers is not None:  # after the known episode, which stays what it is without
@@ -264,3 +264,25 @@ class LocLoss(nn.Module, Planner):
                           == choice.cpu())
         follow = torch.rand(len(view), device=view.device) < self.mix
         return torch.where(follow[:, None], goal, own)
+
+
+class KnownViews:
+    """A camera whose renders at some views are known already (imitation's candidates, each
+    episode's every view): a trace at one of them is a look-up, any other view is cast."""
+
+    def __init__(self, camera, views, depth):
+        self.camera, self.depth = camera, depth  # depth (K, H, W) rendered at views (K, 2)
+        self.known = {tuple(v): k for k, v in enumerate(np.asarray(views, dtype=np.float32))}
+
+    def trace(self, view, normals=True):
+        k = self.known.get(tuple(np.asarray(view, dtype=np.float32).ravel()))
+        return k if k is not None else self.camera.trace(view, normals)
+
+    def render_hits(self, hits):
+        return self.depth[hits][None] if isinstance(hits, int) else self.camera.render_hits(hits)
+
+
+def float32_views(views):
+    """views (K, 2) rounded to float32 as an episode holds them (float64): a render there is the
+    one an episode's view asks for, bit for bit."""
+    return np.asarray(views, dtype=np.float32).astype(np.float64)

@@ -169,7 +169,7 @@ class Recorder:
         return out
 
 
-def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100):
+def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100, fixed_path=None):
     """evaluate.rollout of planner `name` with its logits and recurrent states recorded:
     (Rollout, record)."""
     from .episode import reads_mirror
@@ -177,7 +177,7 @@ def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100):
 
     rec = Recorder(model)
     with torch.no_grad():
-        ro = rollout(name, model, shapes, objects, starts, cfg, chunk=chunk, forward=rec)
+        ro = rollout(name, model, shapes, objects, starts, cfg, chunk=chunk, fixed_path=fixed_path, forward=rec)
     return ro, rec.record(ro.probs, chunk, cfg.steps, reads_mirror(model))
 
 
@@ -207,20 +207,40 @@ def confident(probs, entropy_threshold):
     return -(p * np.log(p)).sum(-1) < entropy_threshold
 
 
-def held_scores(probs, scores, entropy_threshold):
-    """(N,) the least threshold at which each episode ends accepted under the hold: the least of
-    its running scores (N, T) at a confident step and at its last step (there it ends whatever
-    the score). So under the hold an object is answered `unknown` exactly where this is above
-    the threshold, and a threshold accepting a share of known objects is that share's quantile
-    of it (threshold_at), as for a score at a fixed view."""
+def step_thresholds(threshold, steps):
+    """(steps,) the threshold in force at each step: `threshold` a number or one per step (past
+    its end, its last)."""
+    threshold = np.atleast_1d(np.asarray(threshold, dtype=float))
+    return threshold[np.minimum(np.arange(steps), len(threshold) - 1)]
+
+
+def held_thresholds(probs, scores, entropy_threshold, rate):
+    """(T,) per-step thresholds under the recognizer's hold that reject no more than 1 - `rate`
+    of these known objects (probs (N, T, C), running scores (N, T)) in an episode cut after any
+    number of views k: step by step, among the episodes the earlier steps' thresholds have not
+    ended accepted (a confident step whose score is at most its step's threshold), the least
+    threshold that leaves at most (1 - rate) N of them above it at step k. Where no more than
+    that many are still open, the step's threshold is the least they allow (any open known
+    episode above it is one of that budget)."""
     scores = np.asarray(scores, dtype=float)
-    at_sure = np.where(confident(probs, entropy_threshold), scores, np.inf).min(1)
-    return np.minimum(at_sure, scores[:, -1])
+    if not 0 < rate <= 1:
+        raise InputError(f"the share of known objects to accept must lie in (0, 1], got {rate}")
+    sure = confident(probs, entropy_threshold)
+    budget = int(np.floor((1 - rate) * len(scores) + 1e-9))
+    open_, out = np.ones(len(scores), bool), []
+    for t in range(scores.shape[1]):
+        still = np.sort(scores[open_, t])
+        thr = still[len(still) - budget - 1] if len(still) > budget else (still[0] if len(still) else 1e-6)
+        out.append(max(float(thr), 1e-6))
+        open_ &= ~(sure[:, t] & (scores[:, t] <= out[-1]))
+    return np.asarray(out)
 
 
 def held_stops(probs, scores, entropy_threshold, threshold):
     """(N,) 1-based: where each episode ends under the recognizer's hold (hold_unknown): at the
     first step whose answer is confident (entropy below `entropy_threshold`) and whose running
-    score is at most `threshold`, else at its last step. probs (N, T, C), scores (N, T)."""
-    ends = confident(probs, entropy_threshold) & (np.asarray(scores) <= threshold)
+    score is at most its step's threshold (a number, or one per step), else at its last step.
+    probs (N, T, C), scores (N, T)."""
+    scores = np.asarray(scores)
+    ends = confident(probs, entropy_threshold) & (scores <= step_thresholds(threshold, scores.shape[1]))
     return np.where(ends.any(1), ends.argmax(1) + 1, ends.shape[1])

@@ -7,11 +7,12 @@ The score is open_set's `prototype_mean`: the running mean, over the views an ep
 of 1 - the largest cosine similarity of the step's recurrent state to a class mean of that step.
 The per-step class means (steps, classes, state size) are fitted on the states of episodes of
 --objects training objects (the training split less val, each class in the sample), each run by
---planner (default imitation, the shipped model's own) from a seeded initial view, from the
-images alone. The threshold is the one that accepts --known-rate of the known validation objects
-at the end the recognizer gives their episodes (hold_unknown: a confident answer waits while the
-score is above the threshold; open_set.held_scores) (the dataset's val split): the
-default 0.97 rejects about 3 % of them, a margin below the 5 % the test split may lose. The
+--planner (default auto: the recognizer's own, the checkpoint's default planner) from a seeded
+initial view, from the images alone. The thresholds, one per number of views, are chosen on the
+known validation objects (the dataset's val split) under the recognizer's hold (hold_unknown: a
+confident answer waits while the score is above its step's threshold): cut after any number of
+views, no more than 1 - --known-rate of their episodes end `unknown` (open_set.held_thresholds;
+the default 0.97 rejects about 3 %, a margin below the 5 % the test split may lose). The
 unknowns' val styles (datasets/unknowns.py) are scored beside them and their share flagged kept
 in `fitted_on`; their test styles are never read. The checkpoint is rewritten atomically.
 
@@ -38,10 +39,18 @@ FIT_OBJECTS = 600  # training objects whose states the means are fitted on
 KNOWN_RATE = 0.97
 
 
-def episodes(planner, model, shapes, objects, cfg):
-    """(Rollout, record of logits and states) of one episode per object, each from a seeded start."""
+def episodes(planner, model, shapes, objects, cfg, fixed_path=None):
+    """(Rollout, record of logits and states) of one episode per object, each from a seeded start
+    (`fixed_path`: the fixed planners' path, a checkpoint's 'fixed_path')."""
     starts = np.random.default_rng(cfg.seed).integers(0, len(cfg.limits.initial_views(50)), len(objects))
-    return open_set.recorded_rollout(planner, model, shapes, np.asarray(objects), starts, cfg)
+    return open_set.recorded_rollout(planner, model, shapes, np.asarray(objects), starts, cfg, fixed_path=fixed_path)
+
+
+def node_planner(name, model, ckpt):
+    """(planner, fixed path) the recognizer would run for `name` ("auto": the checkpoint's own)."""
+    from .recognizer import choose_planner
+
+    return choose_planner(name, model, ckpt), ckpt.get("fixed_path")
 
 
 def prototype_means(states, labels, num_classes):
@@ -53,27 +62,26 @@ def prototype_means(states, labels, num_classes):
     return np.stack([states[labels == c].mean(0) for c in range(num_classes)], 1).astype(np.float32)
 
 
-def fit_means(planner, model, shapes, objects, cfg):
-    """The per-step class means (T, C, S) of the states of `objects` of `shapes` (training
-    objects), in episodes of `planner`."""
-    ro, rec = episodes(planner, model, shapes, objects, cfg)
-    return prototype_means(rec["states"], ro.labels, model.config.num_classes)
+def scored(planner, model, shapes, objects, cfg, means, fixed_path=None):
+    """(probs (N, T, C), running prototype_mean (N, T)) of episodes of `objects` against `means`."""
+    ro, rec = episodes(planner, model, shapes, objects, cfg, fixed_path)
+    return ro.probs, open_set.running_mean(open_set.prototype_steps(rec["states"], means))
 
 
-def end_scores(planner, model, shapes, objects, cfg, means):
-    """(N,) prototype_mean against `means` where each object's episode would end accepted under
-    the recognizer's hold (open_set.held_scores: it keeps looking while the object looks unknown)."""
-    ro, rec = episodes(planner, model, shapes, objects, cfg)
-    running = open_set.running_mean(open_set.prototype_steps(rec["states"], means))
-    return open_set.held_scores(ro.probs, running, cfg.entropy_threshold)
+def flagged(probs, running, entropy_threshold, thresholds):
+    """(N,) bool: the episodes the recognizer's hold ends `unknown` (their score above their
+    last step's threshold)."""
+    stop = open_set.held_stops(probs, running, entropy_threshold, thresholds)
+    return open_set.at_end(running, stop) > open_set.step_thresholds(thresholds, running.shape[1])[stop - 1]
 
 
-def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="imitation", steps=10,
+def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
         seed=0, val_objects=0):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
-    model, classes, _ = checkpoint.load_model(path, dataset=dataset)
+    model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
     if not 0 < known_rate <= 1:
         raise InputError(f"known_rate: the share of known objects to accept must lie in (0, 1], got {known_rate}")
+    planner, fixed_path = node_planner(planner, model, ckpt)
     size, radius = model.config.image_size, model.config.radius
     camera = CameraConfig(size, size, radius=radius)
     cfg = EvalConfig(checkpoint=str(path), dataset=dataset, root=root, split="val", steps=steps, seed=seed,
@@ -86,20 +94,21 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
     n = min(objects, len(train))
     if n < len(classes):
         raise InputError(f"objects = {objects}: the means need a training object of each of the {len(classes)} classes")
-    means = fit_means(planner, model, train, subset_with_every_class(train.labels, n, seed), cfg)
+    ro, rec = episodes(planner, model, train, subset_with_every_class(train.labels, n, seed), cfg, fixed_path)
+    means = prototype_means(rec["states"], ro.labels, model.config.num_classes)
     pick = {name: np.sort(np.random.default_rng(seed).permutation(len(s))[:val_objects or len(s)])
             for name, s in (("known", val), ("unknown", unknown))}
-    known = end_scores(planner, model, val, pick["known"], cfg, means)
-    other = end_scores(planner, model, unknown, pick["unknown"], cfg, means)
-    threshold = open_set.threshold_at(known, known_rate)
+    known = scored(planner, model, val, pick["known"], cfg, means, fixed_path)
+    other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path)
+    thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
                  "seed": int(seed), "size": False, "known_rate": float(known_rate),
-                 "val_known": len(known), "val_unknown": len(other),
-                 "val_known_rejected": round(float((known > threshold).mean()), 4),
-                 "val_unknown_flagged": round(float((other > threshold).mean()), 4),
-                 "val_auroc": round(open_set.auroc(known, other), 4)}
-    entry = {"score": checkpoint.OPEN_SET_SCORE, "means": torch.from_numpy(means), "threshold": threshold,
-             "fitted_on": fitted_on}
+                 "val_known": len(known[1]), "val_unknown": len(other[1]),
+                 "val_known_rejected": round(float(flagged(*known, cfg.entropy_threshold, thresholds).mean()), 4),
+                 "val_unknown_flagged": round(float(flagged(*other, cfg.entropy_threshold, thresholds).mean()), 4),
+                 "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4)}
+    entry = {"score": checkpoint.OPEN_SET_SCORE, "means": torch.from_numpy(means),
+             "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
     return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
 
 
@@ -123,7 +132,8 @@ def main(argv=None):
                     help="seeded sample of the val objects, known and unknown, scored (0: all)")
     ap.add_argument("--known-rate", type=float, default=KNOWN_RATE,
                     help=f"share of known validation objects the threshold accepts (default {KNOWN_RATE})")
-    ap.add_argument("--planner", default="imitation", help="the planner of every episode (default imitation)")
+    ap.add_argument("--planner", default="auto", help=(
+        "the planner of every episode (default auto: the recognizer's, the checkpoint's own)"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     args = ap.parse_args(argv)
     try:
@@ -133,7 +143,8 @@ def main(argv=None):
         store(path, entry, args.out)
     except InputError as e:
         ap.error(str(e))
-    print(f"{args.out or path}: open_set threshold {entry['threshold']:.4f}, {entry['fitted_on']}", file=sys.stderr)
+    steps = ", ".join(f"{t:.4f}" for t in entry["threshold"])
+    print(f"{args.out or path}: open_set thresholds by views {steps}; {entry['fitted_on']}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -83,9 +83,9 @@ class SensingConfig:
     unknown_threshold: float = option(-1.0, lo=-1, hi=2, help=(
         "an episode whose mean prototype score over its views (1 - the cosine of each view's "
         "recurrent state to the nearest class mean) ends above this ends with status unknown, "
-        "its best class and probability kept; -1 = the checkpoint's own threshold (none where "
-        "it carries no open_set: python -m active_recognition.open_set_fit), 0 = never; "
-        "either this or unknown_energy suffices"))
+        "its best class and probability kept; -1 = the checkpoint's own thresholds, one for each "
+        "number of views (none where it carries no open_set: python -m "
+        "active_recognition.open_set_fit), 0 = never; either this or unknown_energy suffices"))
     hold_unknown: bool = option(True, help=(
         "while the mean prototype score is above the unknown threshold, a confident answer does "
         "not end the episode: the object that looks like none of the classes is looked at until "
@@ -292,15 +292,20 @@ class ActiveRecognizer:
         return self.looks_unknown()
 
     def looks_unknown(self):
-        """Whether the mean prototype score of the views so far is above the threshold in force."""
+        """Whether the mean prototype score of the views so far is above the threshold in force
+        at this step."""
         return self.prototypes != [] and float(np.mean(self.prototypes)) > self.prototype_threshold()
 
     def prototype_threshold(self):
-        """The prototype_mean threshold in force (inf: none)."""
+        """The prototype_mean threshold in force after the views scored so far (inf: none): the
+        checkpoint's for that many views, or the one sensing.unknown_threshold sets for all."""
         chosen = self.sensing.unknown_threshold
         if chosen == 0 or self.model.open_set is None:
             return math.inf
-        return self.model.open_set["threshold"] if chosen < 0 else chosen
+        if chosen > 0:
+            return chosen
+        steps = self.model.open_set["threshold"]
+        return steps[min(max(len(self.prototypes), 1), len(steps)) - 1]
 
     @contextmanager
     def threads(self):

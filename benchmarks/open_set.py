@@ -8,17 +8,19 @@ styles (datasets/unknowns.py). The operating point of each score is chosen on va
 the dataset's val split (a seeded tenth of train) and the unknowns of their val styles, which no
 test object shares. The Mahalanobis Gaussians are fitted, one per step, on the recurrent states
 of a seeded sample of the training split less val; their means are the prototypes. Every
-episode is evaluate.rollout's (the default planner, imitation), from the images alone: the
-generated unknowns have no real size.
+episode is evaluate.rollout's, run by the recognizer's planner (--planner auto: the checkpoint's
+default), from the images alone: the generated unknowns have no real size.
 
 Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of unknown objects
 accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
 the known validation objects after 3, 6 and 9 views, the share of known test objects answered
 unknown, the share of unknown ones answered unknown, and the known accuracy counting an unknown
 answer as wrong. Where the checkpoint carries its own open_set (python -m
-active_recognition.open_set_fit), the same three at its stored threshold, after 3, 6 and 9 views
-and at each episode's end (key `stored`). Writes docs/results/modelnet10/open_set.json (a partial
-run must give --out); the last line is JSON.
+active_recognition.open_set_fit), the same three at its stored per-step thresholds as the
+recognizer answers (its hold: a confident answer that looks unknown waits), in episodes cut after
+3, 6 and 9 views and at their end (key `stored`), and the same for episodes of --compare's
+planner (default random: what choosing the views adds; key `compared`). Writes
+docs/results/modelnet10/open_set.json (a partial run must give --out); the last line is JSON.
 
     python benchmarks/open_set.py --dataset modelnet --root ~/data/ModelNet10 [--objects 50 --out F]
 """
@@ -31,7 +33,7 @@ from active_recognition import checkpoint, open_set
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import EvalConfig, checkpoint_split, sample_episodes
-from active_recognition.open_set_fit import episodes
+from active_recognition.open_set_fit import episodes, node_planner
 from active_recognition.options import add_flags
 from active_recognition.report import write_json
 from active_recognition.validation import InputError
@@ -46,25 +48,32 @@ def r4(x):
 
 def stored_point(entry, known, unknown, entropy_threshold):
     """The operating point of the checkpoint's own open_set (prototype_mean against its class
-    means and threshold) on the test runs known and unknown ((Rollout, record) each): known
-    rejected, unknown flagged and known accuracy (an unknown answer wrong) after 3, 6 and 9 views
-    and at each episode's end (its entropy stop), and, with the episodes' `entropy_threshold`,
-    at the end the recognizer's hold gives (`held`: a confident answer that looks unknown waits)."""
+    means and per-step thresholds) on the test runs known and unknown ((Rollout, record) each),
+    as the recognizer answers under its hold (a confident answer that looks unknown waits): known
+    rejected, unknown flagged and known accuracy (an unknown answer wrong) of the episodes cut
+    after 3, 6 and 9 views (max_views k) and at their end (`end`); `unheld`: at the end of the
+    entropy stop without the hold."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
     ks, us = (open_set.running_mean(open_set.prototype_steps(r["states"], means)) for r in (krec, urec))
+    steps = ks.shape[1]
+    thr = open_set.step_thresholds(entry["threshold"], steps)
     right = kro.probs.argmax(-1) == kro.labels[:, None]
-    at = {str(k): (ks[:, k - 1], us[:, k - 1], right[:, k - 1]) for k in VIEWS if k <= ks.shape[1]}
-    at["end"] = (open_set.at_end(ks, kro.stopped_at), open_set.at_end(us, uro.stopped_at),
-                 open_set.at_end(right, kro.stopped_at))
-    kend, uend = (open_set.held_stops(ro.probs, sc, entropy_threshold, entry["threshold"])
-                  for ro, sc in ((kro, ks), (uro, us)))
-    at["held"] = (open_set.at_end(ks, kend), open_set.at_end(us, uend), open_set.at_end(right, kend))
-    thr = entry["threshold"]
-    return {"threshold": r4(thr), "fitted_on": entry.get("fitted_on", {}),
-            "known_rejected": {k: r4((kn > thr).mean()) for k, (kn, _, _) in at.items()},
-            "unknown_flagged": {k: r4((un > thr).mean()) for k, (_, un, _) in at.items()},
-            "known_accuracy": {k: r4((ok & (kn <= thr)).mean()) for k, (kn, _, ok) in at.items()}}
+    cuts = {str(k): k for k in VIEWS if k <= steps} | {"end": steps}
+    out = {key: {} for key in ("known_rejected", "unknown_flagged", "known_accuracy")}
+    for key, k in cuts.items():
+        kend, uend = (open_set.held_stops(ro.probs[:, :k], sc[:, :k], entropy_threshold, thr[:k])
+                      for ro, sc in ((kro, ks), (uro, us)))
+        krej = open_set.at_end(ks, kend) > thr[kend - 1]
+        out["known_rejected"][key] = r4(krej.mean())
+        out["unknown_flagged"][key] = r4((open_set.at_end(us, uend) > thr[uend - 1]).mean())
+        out["known_accuracy"][key] = r4((open_set.at_end(right, kend) & ~krej).mean())
+    kend, uend = kro.stopped_at, uro.stopped_at  # the entropy stop alone, no hold
+    krej = open_set.at_end(ks, kend) > thr[kend - 1]
+    out["known_rejected"]["unheld"] = r4(krej.mean())
+    out["unknown_flagged"]["unheld"] = r4((open_set.at_end(us, uend) > thr[uend - 1]).mean())
+    out["known_accuracy"]["unheld"] = r4((open_set.at_end(right, kend) & ~krej).mean())
+    return {"threshold": [r4(t) for t in thr], "fitted_on": entry.get("fitted_on", {}), **out}
 
 
 def measure(known, unknown, steps):
@@ -112,8 +121,9 @@ def run(args):
     if fit_n < len(classes):
         raise InputError(f"fit_objects = {args.fit_objects}: the Gaussians need a training object of each of "
                          f"the {len(classes)} classes")
-    fit_ro, fit_rec = episodes(args.planner, model, train, subset_with_every_class(train.labels, fit_n, args.seed),
-                               cfg)
+    planner, fixed_path = node_planner(args.planner, model, checkpoint.read(path))
+    fit_ro, fit_rec = episodes(planner, model, train, subset_with_every_class(train.labels, fit_n, args.seed),
+                               cfg, fixed_path)
     gaussians = open_set.fit_steps(fit_rec["states"], fit_ro.labels, len(classes), args.shrink)
     runs, recs = {}, {}
     for name, shapes in (("known_test", test), ("unknown_test", unknown["test"]), ("known_val", val),
@@ -121,7 +131,7 @@ def run(args):
         if args.objects > len(shapes):
             raise InputError(f"objects = {args.objects}, but {name} holds {len(shapes)} (0 = all of them)")
         objects, _ = sample_episodes(args.objects, len(shapes), 1, args.seed)
-        ro, rec = episodes(args.planner, model, shapes, objects, cfg)
+        ro, rec = episodes(planner, model, shapes, objects, cfg, fixed_path)
         runs[name], recs[name] = (ro, open_set.scores(rec, gaussians)), (ro, rec)
         print(f"{name}: {len(ro.objects)} objects", flush=True)
     sc = {name: s for name, (_, s) in runs.items()}
@@ -129,7 +139,7 @@ def run(args):
     val_auroc, _ = measure(sc["known_val"], sc["unknown_val"], args.steps)
     chosen = max(val_auroc, key=lambda s: val_auroc[s][-1])  # on validation, at the episode's end
     ro = runs["known_test"][0]
-    record = {"dataset": args.dataset, "checkpoint": path.name, "planner": args.planner, "size": False,
+    record = {"dataset": args.dataset, "checkpoint": path.name, "planner": planner, "size": False,
               "objects": {name: len(r[0].objects) for name, r in runs.items()} | {"fit": fit_n},
               "known_rate": args.known_rate, "shrink": args.shrink, "auroc": auroc, "fpr95": fpr,
               "val_auroc": val_auroc, "chosen": chosen,
@@ -139,11 +149,23 @@ def run(args):
     if model.open_set is not None:  # the checkpoint's own operating point (open_set_fit.py)
         record["stored"] = stored_point(model.open_set, recs["known_test"], recs["unknown_test"],
                                         cfg.entropy_threshold)
+        if args.compare != planner:  # what the planner's choice of views adds: the same, another planner's
+            other = {name: episodes(args.compare, model, shapes, objects, cfg, fixed_path)
+                     for name, (shapes, objects) in (("known", (test, recs["known_test"][0].objects)),
+                                                     ("unknown", (unknown["test"], recs["unknown_test"][0].objects)))}
+            means = model.open_set["means"].numpy()
+            ks, us = (open_set.running_mean(open_set.prototype_steps(other[g][1]["states"], means))
+                      for g in ("known", "unknown"))
+            record["compared"] = {"planner": args.compare,
+                                  "auroc": [r4(open_set.auroc(ks[:, t], us[:, t])) for t in range(args.steps)],
+                                  "fpr95": [r4(open_set.fpr_at(ks[:, t], us[:, t])) for t in range(args.steps)],
+                                  "stored": stored_point(model.open_set, other["known"], other["unknown"],
+                                                         cfg.entropy_threshold)}
     print_tables(record, args.steps)
     if args.out != "":
         write_json(Path(args.out), record)
     emit({k: record[k] for k in ("auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy")}
-         | {"chosen": chosen} | ({"stored": record["stored"]} if "stored" in record else {}))
+         | {"chosen": chosen} | {k: record[k] for k in ("stored", "compared") if k in record})
 
 
 def print_tables(record, steps):
@@ -160,12 +182,17 @@ def print_tables(record, steps):
         print(f"{s:<18}" + "  ".join(" / ".join(cells[i:i + 3]) for i in range(0, len(cells), 3)))
     print(f"closed-set accuracy {record['closed_set_accuracy']}; chosen on val: {record['chosen']}")
     print(f"{record['chosen']}: unknown objects answered unknown, by kind: {record['unknown_flagged_by_kind']}")
-    if "stored" in record:
-        st = record["stored"]
-        print(f"the checkpoint's stored operating point (prototype_mean > {st['threshold']}): known rejected / "
-              f"unknown flagged / known accuracy after " + ", ".join(
-                  f"{k}: {st['known_rejected'][k]:.3f} / {st['unknown_flagged'][k]:.3f} / {st['known_accuracy'][k]:.3f}"
-                  for k in st["known_rejected"]))
+    for name, st in (("the checkpoint's stored operating point", record.get("stored")),
+                     (f"the same with {record.get('compared', {}).get('planner')} views",
+                      record.get("compared", {}).get("stored"))):
+        if st is not None:
+            print(f"{name} (prototype_mean above {st['threshold']} by views): known rejected / unknown "
+                  f"flagged / known accuracy, cut after " + ", ".join(
+                      f"{k}: {st['known_rejected'][k]:.3f} / {st['unknown_flagged'][k]:.3f} / "
+                      f"{st['known_accuracy'][k]:.3f}" for k in st["known_rejected"]))
+    if "compared" in record:
+        print(f"prototype_mean with {record['compared']['planner']} views: AUROC {record['compared']['auroc']}, "
+              f"FPR@95 {record['compared']['fpr95']}")
 
 
 def main(argv=None):
@@ -173,7 +200,11 @@ def main(argv=None):
     add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "objects", "seed", "steps"], dataset={
         "choices": ("procedural", "modelnet"), "default": "modelnet", "help": "the known objects' dataset"},
         objects={"help": "seeded sample of each of the four splits' objects (0: all)"})
-    ap.add_argument("--planner", default="imitation", help="the planner of every episode (default imitation)")
+    ap.add_argument("--planner", default="auto", help=(
+        "the planner of every episode (default auto: the recognizer's, the checkpoint's own)"))
+    ap.add_argument("--compare", default="random", help=(
+        "a planner whose test episodes are scored the same way beside it, at the stored operating "
+        "point (default random: what choosing the views adds)"))
     ap.add_argument("--fit-objects", type=int, default=FIT_OBJECTS,
                     help=f"training objects the Mahalanobis Gaussians are fitted on (default {FIT_OBJECTS})")
     ap.add_argument("--shrink", type=float, default=open_set.SHRINK,

@@ -11,10 +11,10 @@ import trimesh
 
 from active_recognition import geometry
 from active_recognition.augment import Augment
-from active_recognition.depth_layer import (CameraConfig, DepthCamera, KnownViews, both_cores,
-                                            float32_views, render_all, render_batch, render_views,
-                                            trace_all)
+from active_recognition.depth_layer import (CameraConfig, DepthCamera, both_cores, render_batch,
+                                            render_views, trace_all)
 from active_recognition.devices import keep_freed_memory
+from active_recognition.losses import KnownViews, float32_views
 from active_recognition.meshes import normalise
 
 CONFIG = CameraConfig(48, 48, radius=1.5)
@@ -125,10 +125,11 @@ def test_both_cores_render_what_one_renders(rng):
                                   np.concatenate([h.distance for h in one]))
     # one normalising pass over cameras that share their table, one at a time otherwise
     other = DepthCamera(v, f, CameraConfig(48, 48, radius=2.0))
-    for group in (cams, cams[:3] + [other] + cams[3:]):
-        hits = [c.trace(x, normals=False) for c, x in zip(group, views)]
-        np.testing.assert_array_equal(render_all(group, hits),
-                                      np.concatenate([c.render_hits(h) for c, h in zip(group, hits)]))
+    for group in (cams, cams[:3] + [other] + cams[4:]):
+        np.testing.assert_array_equal(render_views(torch.from_numpy(views), group).numpy(),
+                                      np.concatenate([c.render(x) for c, x in zip(group, views)]))
+        np.testing.assert_array_equal(render_batch(group, sets),
+                                      np.concatenate([c.render(s) for c, s in zip(group, sets)]))
 
 
 def test_both_cores_keep_the_order_and_raise_what_an_item_raises():

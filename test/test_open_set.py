@@ -271,6 +271,8 @@ def test_held_stops_end_at_the_first_confident_step_that_looks_known():
     (lambda e: e.update(means=e["means"][:, :3]), "do not fit"),
     (lambda e: e.update(means=e["means"][0]), "float tensor"),
     (lambda e: e.update(threshold=3.0), "threshold"),
+    (lambda e: e.update(threshold=torch.tensor([0.3, 0.0])), "threshold"),
+    (lambda e: e.update(threshold=[]), "threshold"),
     (lambda e: e.update(score="energy_mean"), "score"),
     (lambda e: e.pop("means"), "means")])
 def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, message):
@@ -282,7 +284,9 @@ def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, m
     c, s = len(ckpt["classes"]), checkpoint.build_model(ckpt).config.state_size
     entry = {"score": "prototype_mean", "means": torch.zeros(4, c, s), "threshold": 0.3, "fitted_on": {}}
     checkpoint.save(tmp_path / "good.pt", {**ckpt, "open_set": dict(entry)})
-    assert checkpoint.load_model(tmp_path / "good.pt")[0].open_set["threshold"] == 0.3
+    assert checkpoint.load_model(tmp_path / "good.pt")[0].open_set["threshold"] == [0.3]  # one for all steps
+    checkpoint.save(tmp_path / "steps.pt", {**ckpt, "open_set": {**entry, "threshold": torch.tensor([0.5, 0.25])}})
+    assert checkpoint.load_model(tmp_path / "steps.pt")[0].open_set["threshold"] == [0.5, 0.25]
     change(entry)
     checkpoint.save(tmp_path / "bad.pt", {**ckpt, "open_set": entry})
     with pytest.raises(CheckpointError, match=message):
@@ -309,7 +313,9 @@ def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_pa
     camera = CameraConfig(size, size, radius=model.config.radius)
     train = Shapes(open_splits("procedural", None, ("train",))["train"], camera)
     objects = subset_with_every_class(train.labels, 20, 0)
-    ro, rec = open_set_fit.episodes("imitation", model, train, objects, cfg)
+    planner, fixed_path = open_set_fit.node_planner("auto", model, checkpoint.read(path))  # the node's
+    assert entry["fitted_on"]["planner"] == planner
+    ro, rec = open_set_fit.episodes(planner, model, train, objects, cfg, fixed_path)
     c = int(ro.labels[0])
     np.testing.assert_allclose(entry["means"][:, c].numpy(), rec["states"][ro.labels == c].mean(0), rtol=1e-5)
     fitted = entry["fitted_on"]
@@ -339,22 +345,45 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
                                      "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     stored, record = last["stored"], json.loads(out.read_text())
-    assert set(stored["known_rejected"]) == {"3", "end", "held"} and stored["threshold"] == 2.0
-    assert stored["known_accuracy"]["held"] == stored["known_accuracy"]["end"]  # nothing above it: no hold
+    assert set(stored["known_rejected"]) == {"3", "end", "unheld"} and stored["threshold"] == [2.0] * 3
     assert all(v == 0 for key in ("known_rejected", "unknown_flagged") for v in stored[key].values())
-    assert stored["known_accuracy"]["3"] == record["closed_set_accuracy"]["3"]
+    # nothing above it: the hold never holds, so each episode answers at its entropy stop
+    assert stored["known_accuracy"]["3"] == stored["known_accuracy"]["end"] == stored["known_accuracy"]["unheld"]
+    assert set(record["compared"]) == {"planner", "auroc", "fpr95", "stored"}
+    assert record["compared"]["planner"] == "random"
+    assert len(record["compared"]["auroc"]) == 3
 
 
-def test_held_scores_are_the_least_threshold_that_accepts_each_episode_under_the_hold():
-    """open_set.held_scores against held_stops: at every threshold an episode ends accepted
-    (its running score at its held end at most the threshold) exactly where its held score is at
-    most the threshold."""
-    from active_recognition.open_set import held_scores, held_stops
+def test_held_thresholds_reject_at_most_the_budget_at_every_cut_and_no_lower_one_would():
+    """open_set.held_thresholds against held_stops, brute force: cut after any k views, the
+    known episodes ending unknown (running score at the held end above its step's threshold) are
+    at most (1 - rate) N, and lowering step k's threshold to the next score below it breaks
+    that (each threshold is the least the budget allows), while the earlier ones stay put."""
+    from active_recognition.open_set import held_stops, held_thresholds
     rng = np.random.default_rng(0)
     probs = rng.dirichlet(np.full(4, 0.3), size=(200, 6))
     scores = np.cumsum(rng.random((200, 6)), 1) / np.arange(1, 7)
-    least = held_scores(probs, scores, 0.5)
-    for threshold in np.quantile(scores, [0.1, 0.3, 0.5, 0.7, 0.9]):
-        ends = held_stops(probs, scores, 0.5, threshold)
-        accepted = scores[np.arange(200), ends - 1] <= threshold
-        np.testing.assert_array_equal(accepted, least <= threshold)
+
+    def rejected(thr, k):
+        ends = held_stops(probs[:, :k], scores[:, :k], 0.5, thr[:k])
+        return int((scores[np.arange(200), ends - 1] > thr[ends - 1]).sum())
+
+    for rate in (0.8, 0.95, 0.99):
+        thr = held_thresholds(probs, scores, 0.5, rate)
+        budget = int(np.floor((1 - rate) * 200 + 1e-9))
+        for k in range(1, 7):
+            assert rejected(thr, k) <= budget
+            below = scores[:, k - 1][scores[:, k - 1] < thr[k - 1]]
+            if len(below):
+                lower = thr.copy()
+                lower[k - 1] = below.max()
+                assert rejected(lower, k) > budget
+    with pytest.raises(InputError, match="share"):
+        held_thresholds(probs, scores, 0.5, 1.5)
+
+
+def test_step_thresholds_run_on_past_their_last_step():
+    from active_recognition.open_set import step_thresholds
+    np.testing.assert_array_equal(step_thresholds(0.3, 3), [0.3, 0.3, 0.3])
+    np.testing.assert_array_equal(step_thresholds([0.5, 0.4], 4), [0.5, 0.4, 0.4, 0.4])
+    np.testing.assert_array_equal(step_thresholds(np.array([0.5, 0.4, 0.3]), 2), [0.5, 0.4])
