@@ -252,6 +252,11 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
     held, held_states = ends["held"]
     assert held.status == "unknown" and held.views == 10  # max_views: it never looked known
     np.testing.assert_allclose(held_states[:len(states)], states, atol=1e-5)  # the same views meanwhile
+    # a threshold per number of views: the running score (2: opposite every mean) is above the
+    # first view's 0.05 and at most the later ones' 2.0, so the hold waits one view, then it ends known
+    core = stored_recognizer(tmp_path, "steps", away, [0.05, 2.0], SensingConfig(), entropy_threshold=5.0)
+    stepped = episode_states(core, sim)[0]
+    assert core.prototype_threshold() == 2.0 and stepped.views == 2 and stepped.status == "recognized"
 
 
 def test_held_stops_end_at_the_first_confident_step_that_looks_known():
