@@ -64,9 +64,9 @@ def keep_freed_memory():
     afresh from the kernel and gives it back when freed, and trims its heap, so every step
     faulted the same pages in again, with the two render threads taking the kernel's lock in
     turn. With blocks up to 32 MiB (glibc's most) served from the heap and up to 256 MiB of
-    free memory kept: a ModelNet10 joint step 0.88 -> 0.74 s, the 1,600 candidates' render
-    185 -> 156 ms (benchmarks/training_throughput.py), the same numbers. True where it took;
-    elsewhere (another C library) nothing changes."""
+    free memory kept, on a 2-core AVX-512 machine, one process each way: a ModelNet10 joint step
+    0.86-0.92 -> 0.72-0.79 s, the 1,600 candidates' render 185 -> 156 ms, the same numbers.
+    True where it took; elsewhere (another C library) nothing changes."""
     try:
         mallopt = ctypes.CDLL(None).mallopt
     except (OSError, AttributeError):

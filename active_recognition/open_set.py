@@ -189,6 +189,11 @@ def prototype_steps(states, means):
     return np.stack([prototype_at(states[:, t], means, t) for t in range(states.shape[1])], 1)
 
 
+def prototype_mean(states, means):
+    """(N, T) the running `prototype_mean` of states (N, T, S) against per-step class means."""
+    return running_mean(prototype_steps(states, means))
+
+
 def prototype_at(states, means, t):
     """(N,) the prototype score of states (N, S) at step t (0-based) against per-step class
     means (T', C, S): step t's means, or the last step's past the fit."""
@@ -234,6 +239,13 @@ def held_thresholds(probs, scores, entropy_threshold, rate):
         out.append(max(float(thr), 1e-6))
         open_ &= ~(sure[:, t] & (scores[:, t] <= out[-1]))
     return np.asarray(out)
+
+
+def answered_unknown(scores, stops, threshold):
+    """(N,) bool: the episodes whose running score (N, T) at their end `stops` (N,) 1-based is
+    above that step's threshold (a number, or one per step)."""
+    scores, stops = np.asarray(scores), np.asarray(stops)
+    return at_end(scores, stops) > step_thresholds(threshold, scores.shape[1])[stops - 1]
 
 
 def held_stops(probs, scores, entropy_threshold, threshold):

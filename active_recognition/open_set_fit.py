@@ -65,14 +65,14 @@ def prototype_means(states, labels, num_classes):
 def scored(planner, model, shapes, objects, cfg, means, fixed_path=None):
     """(probs (N, T, C), running prototype_mean (N, T)) of episodes of `objects` against `means`."""
     ro, rec = episodes(planner, model, shapes, objects, cfg, fixed_path)
-    return ro.probs, open_set.running_mean(open_set.prototype_steps(rec["states"], means))
+    return ro.probs, open_set.prototype_mean(rec["states"], means)
 
 
 def flagged(probs, running, entropy_threshold, thresholds):
     """(N,) bool: the episodes the recognizer's hold ends `unknown` (their score above their
     last step's threshold)."""
-    stop = open_set.held_stops(probs, running, entropy_threshold, thresholds)
-    return open_set.at_end(running, stop) > open_set.step_thresholds(thresholds, running.shape[1])[stop - 1]
+    return open_set.answered_unknown(running, open_set.held_stops(probs, running, entropy_threshold, thresholds),
+                                     thresholds)
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,

@@ -26,7 +26,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
-from .open_set import energy, prototype_at
+from .open_set import energy, prototype_at, step_thresholds
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -304,8 +304,7 @@ class ActiveRecognizer:
             return math.inf
         if chosen > 0:
             return chosen
-        steps = self.model.open_set["threshold"]
-        return steps[min(max(len(self.prototypes), 1), len(steps)) - 1]
+        return float(step_thresholds(self.model.open_set["threshold"], max(len(self.prototypes), 1))[-1])
 
     @contextmanager
     def threads(self):

@@ -55,24 +55,22 @@ def stored_point(entry, known, unknown, entropy_threshold):
     entropy stop without the hold."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
-    ks, us = (open_set.running_mean(open_set.prototype_steps(r["states"], means)) for r in (krec, urec))
+    ks, us = (open_set.prototype_mean(r["states"], means) for r in (krec, urec))
     steps = ks.shape[1]
     thr = open_set.step_thresholds(entry["threshold"], steps)
     right = kro.probs.argmax(-1) == kro.labels[:, None]
-    cuts = {str(k): k for k in VIEWS if k <= steps} | {"end": steps}
     out = {key: {} for key in ("known_rejected", "unknown_flagged", "known_accuracy")}
-    for key, k in cuts.items():
-        kend, uend = (open_set.held_stops(ro.probs[:, :k], sc[:, :k], entropy_threshold, thr[:k])
-                      for ro, sc in ((kro, ks), (uro, us)))
-        krej = open_set.at_end(ks, kend) > thr[kend - 1]
+
+    def point(key, kend, uend):  # the three shares of the episodes ending at kend and uend (1-based)
+        krej = open_set.answered_unknown(ks, kend, thr)
         out["known_rejected"][key] = r4(krej.mean())
-        out["unknown_flagged"][key] = r4((open_set.at_end(us, uend) > thr[uend - 1]).mean())
+        out["unknown_flagged"][key] = r4(open_set.answered_unknown(us, uend, thr).mean())
         out["known_accuracy"][key] = r4((open_set.at_end(right, kend) & ~krej).mean())
-    kend, uend = kro.stopped_at, uro.stopped_at  # the entropy stop alone, no hold
-    krej = open_set.at_end(ks, kend) > thr[kend - 1]
-    out["known_rejected"]["unheld"] = r4(krej.mean())
-    out["unknown_flagged"]["unheld"] = r4((open_set.at_end(us, uend) > thr[uend - 1]).mean())
-    out["known_accuracy"]["unheld"] = r4((open_set.at_end(right, kend) & ~krej).mean())
+
+    for key, k in ({str(k): k for k in VIEWS if k <= steps} | {"end": steps}).items():
+        point(key, *(open_set.held_stops(ro.probs[:, :k], sc[:, :k], entropy_threshold, thr[:k])
+                     for ro, sc in ((kro, ks), (uro, us))))
+    point("unheld", kro.stopped_at, uro.stopped_at)  # the entropy stop alone, no hold
     return {"threshold": [r4(t) for t in thr], "fitted_on": entry.get("fitted_on", {}), **out}
 
 
@@ -154,11 +152,11 @@ def run(args):
                      for name, (shapes, objects) in (("known", (test, recs["known_test"][0].objects)),
                                                      ("unknown", (unknown["test"], recs["unknown_test"][0].objects)))}
             means = model.open_set["means"].numpy()
-            ks, us = (open_set.running_mean(open_set.prototype_steps(other[g][1]["states"], means))
+            ks, us = ({"prototype_mean": open_set.prototype_mean(other[g][1]["states"], means)}
                       for g in ("known", "unknown"))
-            record["compared"] = {"planner": args.compare,
-                                  "auroc": [r4(open_set.auroc(ks[:, t], us[:, t])) for t in range(args.steps)],
-                                  "fpr95": [r4(open_set.fpr_at(ks[:, t], us[:, t])) for t in range(args.steps)],
+            c_auroc, c_fpr = measure(ks, us, args.steps)
+            record["compared"] = {"planner": args.compare, "auroc": c_auroc["prototype_mean"],
+                                  "fpr95": c_fpr["prototype_mean"],
                                   "stored": stored_point(model.open_set, other["known"], other["unknown"],
                                                          cfg.entropy_threshold)}
     print_tables(record, args.steps)
