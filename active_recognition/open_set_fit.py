@@ -8,7 +8,8 @@ of 1 - the largest cosine similarity of the step's recurrent state to a class me
 The per-step class means (steps, classes, state size) are fitted on the states of episodes of
 --objects training objects (the training split less val, each class in the sample), each run by
 --planner (default auto: the recognizer's own, the checkpoint's default planner) from a seeded
-initial view, from the images alone. The thresholds, one per number of views, are chosen on the
+initial view, reading each object's size where the model has a size prior (as the recognizer's
+use_size does by default; --no-size: from the images alone). The thresholds, one per number of views, are chosen on the
 known validation objects (the dataset's val split) under the recognizer's hold (hold_unknown: a
 confident answer waits while the score is above its step's threshold): cut after any number of
 views, no more than 1 - --known-rate of their episodes end `unknown` (open_set.held_thresholds;
@@ -76,16 +77,16 @@ def flagged(probs, running, entropy_threshold, thresholds):
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
-        seed=0, val_objects=0):
+        seed=0, val_objects=0, size=True):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
     model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
     if not 0 < known_rate <= 1:
         raise InputError(f"known_rate: the share of known objects to accept must lie in (0, 1], got {known_rate}")
     planner, fixed_path = node_planner(planner, model, ckpt)
-    size, radius = model.config.image_size, model.config.radius
-    camera = CameraConfig(size, size, radius=radius)
+    pixels = model.config.image_size
+    camera = CameraConfig(pixels, pixels, radius=model.config.radius)
     cfg = EvalConfig(checkpoint=str(path), dataset=dataset, root=root, split="val", steps=steps, seed=seed,
-                     size=False, shared=False)
+                     size=size, shared=False)
     parts = open_splits(dataset, root, ("train", "val"), default_cache_dir())
     train, val = (Shapes(parts[s], camera) for s in ("train", "val"))
     if list(train.ds.classes) != classes:
@@ -102,7 +103,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
     other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path)
     thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
-                 "seed": int(seed), "size": False, "known_rate": float(known_rate),
+                 "seed": int(seed), "size": bool(size), "known_rate": float(known_rate),
                  "val_known": len(known[1]), "val_unknown": len(other[1]),
                  "val_known_rejected": round(float(flagged(*known, cfg.entropy_threshold, thresholds).mean()), 4),
                  "val_unknown_flagged": round(float(flagged(*other, cfg.entropy_threshold, thresholds).mean()), 4),
@@ -124,7 +125,7 @@ def store(path, entry, out=None):
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python -m active_recognition.open_set_fit",
                                  description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "seed", "steps"], dataset={
+    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "seed", "steps", "size"], dataset={
         "choices": ("procedural", "modelnet"), "default": "modelnet", "help": "the known objects' dataset"})
     ap.add_argument("--objects", type=int, default=FIT_OBJECTS,
                     help=f"training objects the class means are fitted on (default {FIT_OBJECTS})")
@@ -139,7 +140,7 @@ def main(argv=None):
     try:
         path = checkpoint.model_path(args.checkpoint, args.dataset)
         entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
-                    args.seed, args.val_objects)
+                    args.seed, args.val_objects, args.size)
         store(path, entry, args.out)
     except InputError as e:
         ap.error(str(e))

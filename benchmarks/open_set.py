@@ -9,7 +9,9 @@ the dataset's val split (a seeded tenth of train) and the unknowns of their val 
 test object shares. The Mahalanobis Gaussians are fitted, one per step, on the recurrent states
 of a seeded sample of the training split less val; their means are the prototypes. Every
 episode is evaluate.rollout's, run by the recognizer's planner (--planner auto: the checkpoint's
-default), from the images alone: the generated unknowns have no real size.
+default), reading each object's size as the recognizer does by default (use_size): the known
+objects' from their files, the generated unknowns' as built, in metres (--no-size: the images
+alone).
 
 Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of unknown objects
 accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
@@ -109,7 +111,7 @@ def by_kind(run, score, thresholds):
 def run(args):
     path = checkpoint.model_path(args.checkpoint, args.dataset)
     cfg = EvalConfig(checkpoint=str(path), dataset=args.dataset, root=args.root, split="test",
-                     steps=args.steps, seed=args.seed, size=False, shared=False)
+                     steps=args.steps, seed=args.seed, size=args.size, shared=False)
     model, classes, test, _ = checkpoint_split(str(path), cfg)
     parts = open_splits(args.dataset, args.root, ("train", "val"), default_cache_dir())
     train, val = (Shapes(parts[s], test.camera) for s in ("train", "val"))
@@ -137,7 +139,7 @@ def run(args):
     val_auroc, _ = measure(sc["known_val"], sc["unknown_val"], args.steps)
     chosen = max(val_auroc, key=lambda s: val_auroc[s][-1])  # on validation, at the episode's end
     ro = runs["known_test"][0]
-    record = {"dataset": args.dataset, "checkpoint": path.name, "planner": planner, "size": False,
+    record = {"dataset": args.dataset, "checkpoint": path.name, "planner": planner, "size": args.size,
               "objects": {name: len(r[0].objects) for name, r in runs.items()} | {"fit": fit_n},
               "known_rate": args.known_rate, "shrink": args.shrink, "auroc": auroc, "fpr95": fpr,
               "val_auroc": val_auroc, "chosen": chosen,
@@ -195,7 +197,7 @@ def print_tables(record, steps):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "objects", "seed", "steps"], dataset={
+    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "objects", "seed", "steps", "size"], dataset={
         "choices": ("procedural", "modelnet"), "default": "modelnet", "help": "the known objects' dataset"},
         objects={"help": "seeded sample of each of the four splits' objects (0: all)"})
     ap.add_argument("--planner", default="auto", help=(

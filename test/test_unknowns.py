@@ -29,11 +29,27 @@ def test_every_style_builds_closed_parts(name):
 
 @pytest.mark.parametrize("label", range(len(KINDS)))
 def test_shapes_are_normalised_and_not_flat(label):
-    v, f = make_unknown(label, 7, "test")
+    v, f, size = make_unknown(label, 7, "test")
     assert v.dtype == np.float32 and f.dtype == np.int32 and f.max() < len(v)
     assert np.abs(v).max() <= 0.5 + 1e-6 and np.isclose(np.ptp(v, 0).max(), 1.0, atol=1e-5)
     mesh = trimesh.Trimesh(v, f, process=False)
     assert mesh.area > 0 and (np.ptp(v, 0) > 0.02).all()
+
+
+def test_sizes_are_the_built_boxes_in_metres(tmp_path):
+    """Each unknown's size is its box as built (rebuilt here from the same seed and style, with
+    the generator itself), kept through the cache; a cup is small, an airplane large."""
+    ds = unknowns("val", cache_dir=tmp_path, per_class=2)
+    for i, (source, label) in enumerate(ds.items):
+        rng = np.random.default_rng(int(source.split("/")[1]))
+        options = styles(KINDS[label], "val")
+        pick = options[int(rng.random() * len(options))]
+        built = trimesh.util.concatenate(GENERATORS[KINDS[label]](rng, *pick, Style.draw(rng)))
+        assert ds.size(i) == pytest.approx(np.ptp(built.vertices, 0).max(), rel=1e-9)
+    again = unknowns("val", cache_dir=tmp_path, per_class=2)  # read back from the cache
+    assert [again.size(i) for i in range(len(again))] == [ds.size(i) for i in range(len(ds))]
+    by_kind = {KINDS[label]: ds.size(i) for i, (_, label) in enumerate(ds.items)}
+    assert by_kind["cup"] < 0.3 < 2.0 < by_kind["airplane"]
 
 
 def test_splits_have_disjoint_nonempty_styles():

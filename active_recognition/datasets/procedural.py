@@ -47,10 +47,11 @@ SPLITS = tuple(PER_CLASS)  # a generated benchmark also has the cross-style test
 
 
 def generated(name, classes, make, version, split="train", cache_dir=None, seed=0, per_class=None,
-              sizes=None):
+              sizes=None, metres=False):
     """A generated benchmark as a ShapeDataset: `make(label, seed)` builds each shape; all meshes
     of a split are cached in one .npz under cache_dir/name. `sizes`: {split: objects per class}
-    (default PER_CLASS), which also names the splits there are."""
+    (default PER_CLASS), which also names the splits there are. `metres`: make also gives each
+    shape's longest box edge in metres, as built, which the dataset then knows as its size."""
     from ..validation import InputError
     from .base import load_npz, save_npz_atomic, ShapeDataset
 
@@ -67,20 +68,30 @@ def generated(name, classes, make, version, split="train", cache_dir=None, seed=
     if cache_dir is not None:
         from pathlib import Path
         path = Path(cache_dir) / name / f"v{version}-s{seed}-{split}-{per_class}.npz"
-    keys = ("vertices", "faces", "vertex_offsets", "face_offsets")
+    keys = ("vertices", "faces", "vertex_offsets", "face_offsets") + (("edges",) if metres else ())
     cached = None if path is None else load_npz(path, keys)
     if cached is not None and len(cached[2]) == len(items) + 1:
-        v, f, vo, fo = cached
+        v, f, vo, fo = cached[:4]
         for i in range(len(items)):
             ds._meshes[i] = (v[vo[i]:vo[i + 1]], f[fo[i]:fo[i + 1]])
-        return ds
-    meshes = [make(label, s) for label, s in specs]
+        return with_sizes(ds, cached[4]) if metres else ds
+    built = [make(label, s) for label, s in specs]
+    meshes = [m[:2] for m in built]
+    edges = np.array([m[2] for m in built] if metres else [])
     ds._meshes = dict(enumerate(meshes))
     if path is not None:
         save_npz_atomic(path, vertices=np.concatenate([v for v, _ in meshes]),
                         faces=np.concatenate([f for _, f in meshes]),
                         vertex_offsets=np.cumsum([0] + [len(v) for v, _ in meshes]),
-                        face_offsets=np.cumsum([0] + [len(f) for _, f in meshes]))
+                        face_offsets=np.cumsum([0] + [len(f) for _, f in meshes]),
+                        **({"edges": edges} if metres else {}))
+    return with_sizes(ds, edges) if metres else ds
+
+
+def with_sizes(ds, edges):
+    """ds, knowing each item's size: its longest box edge `edges[i]` in metres."""
+    ds.unit = 1.0
+    ds._edges.update({source: float(e) for (source, _), e in zip(ds.items, edges)})
     return ds
 
 

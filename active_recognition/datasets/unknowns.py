@@ -20,7 +20,7 @@ from shapely.ops import unary_union
 
 from .parts import Style, box, cushion, cylinder, disc, extrude, legs4, place, slab, turned
 from .procedural import generated
-from ..meshes import normalise
+from ..meshes import box_edge, normalise
 
 
 def revolved(z0, radii, height, st):
@@ -219,7 +219,7 @@ GENERATORS = {name: globals()[name] for name in KINDS}
 FACTORS = {name: (3, 3) for name in KINDS}  # options per factor (a, b) of each kind
 SPLITS = ("train", "val", "test")
 STYLE_SEED = 0  # how the styles of each kind are dealt to the splits
-VERSION = 1  # bump when a builder changes, so caches are rebuilt
+VERSION = 2  # bump when a builder changes, so caches are rebuilt
 PER_CLASS = {"train": 100, "val": 30, "test": 50}
 
 
@@ -242,21 +242,23 @@ def styles(name, split):
 
 def make_unknown(label: int, seed: int, split: str):
     """One object of kind `label` in a style of `split`, from `seed`: (vertices in [-0.5, 0.5]^3,
-    faces)."""
+    faces, its size: the longest edge of its box in metres, as built)."""
     rng = np.random.default_rng(seed)
     name = KINDS[label]
     options = styles(name, split)
     pick = options[int(rng.random() * len(options))]
     mesh = trimesh.util.concatenate(GENERATORS[name](rng, *pick, Style.draw(rng)))
-    return normalise(mesh.vertices).astype(np.float32), np.asarray(mesh.faces, dtype=np.int32)
+    return (normalise(mesh.vertices).astype(np.float32), np.asarray(mesh.faces, dtype=np.int32),
+            box_edge(mesh.vertices))
 
 
 def unknowns(split="train", cache_dir=None, seed=0, per_class=None):
     """The unknown objects of a split as a ShapeDataset (procedural.generated): its own `val`,
-    of styles apart from both `train` and `test`."""
+    of styles apart from both `train` and `test`; each object's size is its size as built, so
+    the size prior weighs it as a robot's detector would."""
     from ..validation import InputError
 
     if split not in SPLITS:
         raise InputError(f"split of unknowns must be one of {', '.join(SPLITS)}, got {split!r}")
     return generated("unknowns", KINDS, lambda label, s: make_unknown(label, s, split), VERSION, split,
-                     cache_dir, seed, per_class, PER_CLASS)
+                     cache_dir, seed, per_class, PER_CLASS, metres=True)
