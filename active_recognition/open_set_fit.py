@@ -15,15 +15,20 @@ confident answer waits while the score is above its step's threshold): cut after
 views, no more than 1 - --known-rate of their episodes end `unknown` (open_set.held_thresholds;
 the default 0.97 rejects about 3 %, a margin below the 5 % the test split may lose). The
 unknowns' val styles (datasets/unknowns.py) are scored beside them and their share flagged kept
-in `fitted_on`; their test styles are never read. The checkpoint is rewritten atomically.
+in `fitted_on`; their test styles are never read. With --camera PRESET the val episodes, and
+the training episodes of a second set of means, are shot through that simulated camera and the
+recognizer's own path (camera_episodes.py), as the node will see them: the thresholds are
+chosen on those, and the means are whichever set tells the val unknowns better. The checkpoint
+is rewritten atomically.
 
     python -m active_recognition.open_set_fit --checkpoint PATH --dataset modelnet --root DIR
-        [--objects 600] [--known-rate 0.97] [--out PATH]
+        [--objects 600] [--known-rate 0.97] [--camera realsense] [--out PATH]
 """
 from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 
 import numpy as np
 import torch
@@ -34,6 +39,7 @@ from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .evaluate import EvalConfig
 from .options import add_flags
+from .simulated_camera import PRESETS
 from .validation import InputError
 
 FIT_OBJECTS = 600  # training objects whose states the means are fitted on
@@ -77,40 +83,78 @@ def flagged(probs, running, entropy_threshold, thresholds):
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
-        seed=0, val_objects=0, size=True):
+        seed=0, val_objects=0, size=True, camera="model"):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
     model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
     if not 0 < known_rate <= 1:
         raise InputError(f"known_rate: the share of known objects to accept must lie in (0, 1], got {known_rate}")
     planner, fixed_path = node_planner(planner, model, ckpt)
     pixels = model.config.image_size
-    camera = CameraConfig(pixels, pixels, radius=model.config.radius)
+    renders = CameraConfig(pixels, pixels, radius=model.config.radius)
     cfg = EvalConfig(checkpoint=str(path), dataset=dataset, root=root, split="val", steps=steps, seed=seed,
                      size=size, shared=False)
     parts = open_splits(dataset, root, ("train", "val"), default_cache_dir())
-    train, val = (Shapes(parts[s], camera) for s in ("train", "val"))
+    train, val = (Shapes(parts[s], renders) for s in ("train", "val"))
     if list(train.ds.classes) != classes:
         raise InputError(f"{path}: the checkpoint's classes {classes} are not the dataset's {train.ds.classes}")
-    unknown = Shapes(open_dataset("unknowns", split="val", cache_dir=default_cache_dir()), camera)
+    unknown = Shapes(open_dataset("unknowns", split="val", cache_dir=default_cache_dir()), renders)
     n = min(objects, len(train))
     if n < len(classes):
         raise InputError(f"objects = {objects}: the means need a training object of each of the {len(classes)} classes")
-    ro, rec = episodes(planner, model, train, subset_with_every_class(train.labels, n, seed), cfg, fixed_path)
+    fit_on = subset_with_every_class(train.labels, n, seed)
+    ro, rec = episodes(planner, model, train, fit_on, cfg, fixed_path)
     means = prototype_means(rec["states"], ro.labels, model.config.num_classes)
     pick = {name: np.sort(np.random.default_rng(seed).permutation(len(s))[:val_objects or len(s)])
             for name, s in (("known", val), ("unknown", unknown))}
-    known = scored(planner, model, val, pick["known"], cfg, means, fixed_path)
-    other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path)
+    through = {}
+    if camera == "model":
+        known = scored(planner, model, val, pick["known"], cfg, means, fixed_path)
+        other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path)
+    else:
+        groups = (train.ds, fit_on), (val.ds, pick["known"]), (unknown.ds, pick["unknown"])
+        means, known, other, through = through_camera(path, planner, dataset, root, camera, steps, seed,
+                                                      size, *groups, means)
     thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
                  "seed": int(seed), "size": bool(size), "known_rate": float(known_rate),
                  "val_known": len(known[1]), "val_unknown": len(other[1]),
                  "val_known_rejected": round(float(flagged(*known, cfg.entropy_threshold, thresholds).mean()), 4),
                  "val_unknown_flagged": round(float(flagged(*other, cfg.entropy_threshold, thresholds).mean()), 4),
-                 "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4)}
+                 "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4), "camera": camera,
+                 **through}
     entry = {"score": checkpoint.OPEN_SET_SCORE, "means": torch.from_numpy(means),
              "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
     return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
+
+
+def through_camera(path, planner, dataset, root, preset, steps, seed, size, train, val, unknown, rendered):
+    """(means, known, unknown, notes) fitted on episodes through simulated camera `preset` as the
+    node runs them (camera_episodes.py), each of `steps` images without a stop: the class means
+    of the training episodes' states, or `rendered` (of the model's own renders) where those
+    tell the val unknowns better (val AUROC after `steps` views); known and unknown: (probs,
+    running scores) of the val episodes against the chosen means."""
+    from .camera_episodes import camera_runs, full_length
+    from .episode import EpisodeConfig
+    from .node_params import RecognizerParameters
+    from .recognizer import ActiveRecognizer
+
+    node = RecognizerParameters()  # the node's view limits; no stop, no hold: every step recorded
+    sensing = replace(node.sensing, use_size=size, unknown_threshold=0.0, hold_unknown=False)
+    core = ActiveRecognizer(str(path), EpisodeConfig(steps, 0.0), seed, planner, sensing, node.limits)
+    runs = {}
+    for group, (ds, objects), name, split in (("train", train, dataset, "train"),
+                                              ("known", val, dataset, "val"), ("unknown", unknown, "unknowns", "val")):
+        runs[group] = full_length(camera_runs(core, ds, name, split, objects, preset, seed,
+                                              root if name == dataset else None, record=True), steps)
+    labels = np.array([r.label for r in runs["train"][2]])
+    candidates = {"camera": prototype_means(runs["train"][1], labels, len(train[0].classes)), "renders": rendered}
+    scored_by = {k: {g: (runs[g][0], open_set.prototype_mean(runs[g][1], m)) for g in ("known", "unknown")}
+                 for k, m in candidates.items()}
+    auroc = {k: open_set.auroc(v["known"][1][:, -1], v["unknown"][1][:, -1]) for k, v in scored_by.items()}
+    best = max(auroc, key=auroc.get)
+    notes = {"means_from": best, "val_auroc_by_means": {k: round(v, 4) for k, v in auroc.items()},
+             "train_objects_through_camera": len(runs["train"][2])}
+    return candidates[best], scored_by[best]["known"], scored_by[best]["unknown"], notes
 
 
 def store(path, entry, out=None):
@@ -135,12 +179,15 @@ def main(argv=None):
                     help=f"share of known validation objects the threshold accepts (default {KNOWN_RATE})")
     ap.add_argument("--planner", default="auto", help=(
         "the planner of every episode (default auto: the recognizer's, the checkpoint's own)"))
+    ap.add_argument("--camera", default="model", choices=("model", *PRESETS), help=(
+        "the images the answer is fitted on: model = the model's own renders; a simulated camera "
+        "preset = through it as the node runs (slower; realsense for a node on a real camera)"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     args = ap.parse_args(argv)
     try:
         path = checkpoint.model_path(args.checkpoint, args.dataset)
         entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
-                    args.seed, args.val_objects, args.size)
+                    args.seed, args.val_objects, args.size, args.camera)
         store(path, entry, args.out)
     except InputError as e:
         ap.error(str(e))

@@ -41,6 +41,12 @@ BAD_INPUT = [
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("open_set.py", ["--root", "{tmp}", "--objects", "5"], "a partial run (--objects) would overwrite the committed"),
     ("open_set.py", ["--root", "{tmp}", "--known-rate", "1.5", "--out", "{tmp}/o"], "--known-rate must lie in (0, 1]"),
+    ("open_set_camera.py", ["--root", "{tmp}/nope", "--out", "{tmp}/o"],
+     "modelnet dataset root {tmp}/nope: no such directory"),
+    ("open_set_camera.py", ["--root", "{tmp}", "--objects", "5"],
+     "a partial run (--objects) would overwrite the committed"),
+    ("open_set_camera.py", ["--root", "{tmp}", "--checkpoint", "{tmp}/garbage.pt", "--out", "{tmp}/o"],
+     "checkpoint {tmp}/garbage.pt: unreadable"),
     ("camera_robustness.py", ["--workers", "0"], "--workers must be at least 1, got 0"),
     ("camera_robustness.py", ["--rows", "clean"], "a partial run (--rows) would overwrite the committed"),
 ]

@@ -1,0 +1,80 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""Episodes as the recognizer node runs them: a simulated camera (simulated_camera.py) shoots
+each view the recognizer asks for, and ActiveRecognizer.observe reprojects the image into the
+model's camera. The model's own renders (evaluate.rollout) and these differ a little, pixel by
+pixel (another standoff, then reprojection), which the class answer hardly feels and the
+distance of the recurrent state to its class mean does: open_set_fit fits the `unknown` answer
+on these where asked (--camera), and benchmarks/open_set_camera.py measures it through them.
+
+Each object is shown at its own size where its dataset knows it (else 1 m), kept within SIZES, a
+household object's, and the recognizer is told it: a tenth of ModelNet10's files are drawn in
+other units (a 115 m bathtub), and the RealSense preset, at the standoff where an object fills
+its image, loses a 0.1 m cup inside its least range and a 5 m airplane beyond its greatest.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .simulated_camera import SimulatedCamera, sensor_config
+
+SIZES = (0.3, 3.0)  # metres the objects are shown within
+
+
+@dataclass
+class CameraRun:
+    """One episode: its last observation's status and whether it named the right class, and per
+    image the class probabilities and the recurrent state (recorded only where asked)."""
+
+    status: str
+    label: int  # the object's true class
+    right: bool
+    score: float  # the running prototype score at the end (NaN where none was taken)
+    probs: list
+    states: list
+
+
+def shown_size(ds, i):
+    return min(max(ds.size(int(i)) or 1.0, SIZES[0]), SIZES[1])
+
+
+def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=False):
+    """A CameraRun per object of dataset `ds` (opened as `name`/`split`, under `root`) through
+    simulated camera `preset`, each from a seeded initial view among the recognizer's."""
+    sensor = sensor_config(preset)
+    k = sensor.intrinsics()
+    rng = np.random.default_rng(seed)
+    runs = []
+    for i in objects:
+        size = shown_size(ds, i)
+        sim = SimulatedCamera(replace(sensor, object_size=size * sensor.object_size), seed=seed * 100003 + int(i))
+        sim.load(dataset=name, split=split, index=int(i), root=root or "")
+        core.reset(view=core.initial_views[rng.integers(len(core.initial_views))],
+                   sensing=replace(core.sensing, object_size=size))
+        obs, probs, states = None, [], []
+        while not core.done:
+            shot = sim.capture(*core.requested_pose(k))
+            if shot is None:  # below the floor: no image, as when an arm cannot get there
+                core.view_unreachable()
+                continue
+            obs = core.observe(shot[0], k, shot[1], shot[2])
+            if record and obs.probs is not None:
+                probs.append(obs.probs)
+                states.append(core.episode.hidden[0].detach().cpu().numpy().copy())
+        label = ds.items[int(i)][1]
+        truth = ds.classes[label]
+        runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
+                              obs is not None and obs.status == "recognized" and obs.label == truth,
+                              float(np.mean(core.prototypes)) if core.prototypes else float("nan"),
+                              probs, states))
+    return runs
+
+
+def full_length(runs, steps):
+    """(probs (N, steps, C), states (N, steps, S)) of the runs that took `steps` images."""
+    whole = [r for r in runs if len(r.probs) >= steps]
+    return (np.stack([np.stack(r.probs[:steps]) for r in whole]),
+            np.stack([np.stack(r.states[:steps]) for r in whole]), whole)

@@ -1,0 +1,91 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""The `unknown` answer as the node gives it: known and unknown test objects through a simulated
+camera and the recognizer's own path (SimulatedCamera -> ActiveRecognizer.observe, which
+reprojects every image into the model's camera), with the node's defaults (the checkpoint's
+stored thresholds and hold, object_size read, views from 0 to 90 degrees of elevation).
+
+benchmarks/open_set.py measures the scores on the model's own renders; this one the shipped
+operating point through a camera: `virtual` (64x64, no noise) or `realsense` (640x480, noise,
+holes, 2 degrees of arm error). Known objects are a seeded draw of ModelNet10's test split, each
+at its own size; unknown ones a seeded draw of the generated unknowns' test styles at their size
+as built; each kept within 0.3 to 3 m (camera_episodes.py). Prints, and writes to
+docs/results/modelnet10/open_set_camera.json (a partial run must give --out), the share of each
+group answered `unknown`, the other statuses, the known accuracy (an `unknown` answer wrong),
+and the AUROC and FPR@95 of the running prototype score at each episode's end. Last line is JSON.
+
+    python benchmarks/open_set_camera.py --root ~/data/ModelNet10 [--camera realsense] [--objects 200]
+"""
+import argparse
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+from common import emit, one_line_errors, output, results_dir
+
+from active_recognition import checkpoint, open_set
+from active_recognition.camera_episodes import camera_runs
+from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.evaluate import EvalConfig
+from active_recognition.node_params import RecognizerParameters
+from active_recognition.options import add_flags
+from active_recognition.recognizer import ActiveRecognizer
+from active_recognition.report import write_json
+from active_recognition.simulated_camera import PRESETS
+
+OBJECTS_DEFAULT = 200  # of each group
+
+
+def run(ap, args):
+    partial = [flag for flag, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
+                                     ("--checkpoint", args.checkpoint), ("--camera", args.camera != "realsense"))
+               if on]
+    args.out = output(ap, args.out, str(results_dir("modelnet") / "open_set_camera.json"), partial)
+    path = checkpoint.model_path(args.checkpoint, "modelnet")
+    model = checkpoint.load_model(path)[0]
+    if model.open_set is None:
+        ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
+    node = RecognizerParameters()  # the node's defaults
+    core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, node.sensing, node.limits)
+    groups = {}
+    for group, dataset, root in (("known", "modelnet", args.root), ("unknown", "unknowns", None)):
+        n = len(open_dataset(dataset, root, "test", cache_dir=default_cache_dir()))
+        if not 1 <= args.objects <= n:
+            ap.error(f"--objects must be 1..{n} (the {dataset} test objects)")
+        objects = np.sort(np.random.default_rng(args.seed).permutation(n)[:args.objects])
+        runs = camera_runs(core, open_dataset(dataset, root, "test", cache_dir=default_cache_dir()), dataset,
+                           "test", objects, args.camera, args.seed, root)
+        groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]))
+    (ks, kr, kscore), (us, _, uscore) = groups["known"], groups["unknown"]
+    seen = np.isfinite(kscore), np.isfinite(uscore)
+    record = {"camera": args.camera, "checkpoint": path.name, "planner": core.planner, "objects": args.objects,
+              "seed": args.seed, "known_rejected": round(float(np.mean(np.array(ks) == "unknown")), 4),
+              "unknown_flagged": round(float(np.mean(np.array(us) == "unknown")), 4),
+              "known_accuracy": round(float(np.mean(kr)), 4),
+              "statuses": {g: dict(Counter(groups[g][0])) for g in groups},
+              "auroc": round(open_set.auroc(kscore[seen[0]], uscore[seen[1]]), 4),
+              "fpr95": round(open_set.fpr_at(kscore[seen[0]], uscore[seen[1]]), 4)}
+    print(f"{args.camera}: known answered unknown {record['known_rejected']:.1%}, unknown answered unknown "
+          f"{record['unknown_flagged']:.1%}, known accuracy {record['known_accuracy']:.1%}; AUROC "
+          f"{record['auroc']:.3f}, FPR@95 {record['fpr95']:.3f}; statuses {record['statuses']}")
+    if args.out:
+        write_json(Path(args.out), record)
+    emit({k: v for k, v in record.items() if k != "statuses"})
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    add_flags(ap, EvalConfig, ["root", "checkpoint", "seed"], root={"required": True})
+    ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
+                    help=f"known and unknown test objects each (seeded draw; default {OBJECTS_DEFAULT})")
+    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
+                    "docs/results/modelnet10/open_set_camera.json; a partial run must give it)")
+    args = ap.parse_args(argv)
+    with one_line_errors(ap):
+        run(ap, args)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,78 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""Episodes through a simulated camera, as the node runs them (camera_episodes.py), and the
+`unknown` answer fitted on them (open_set_fit --camera)."""
+import numpy as np
+import pytest
+import torch
+
+from active_recognition import checkpoint, open_set, open_set_fit
+from active_recognition.camera_episodes import camera_runs, full_length, shown_size
+from active_recognition.datasets import open_dataset
+from active_recognition.episode import EpisodeConfig
+from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+
+
+@pytest.fixture()
+def procedural_test(dataset_cache, monkeypatch):
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    return open_dataset("procedural", None, "test", cache_dir=dataset_cache)
+
+
+def test_recorded_runs_hold_each_images_answer_and_state(procedural_test):
+    """Without a stop every run takes max_views images; each recorded answer is a distribution,
+    the last one is the run's answer (right where it names the object's class), and each state
+    is the recurrent state the model's own step gives for that image."""
+    path = checkpoint.shipped("procedural")
+    core = ActiveRecognizer(path, EpisodeConfig(3, 0.0), sensing=SensingConfig(use_size=False))
+    objects = [0, 7, 40]
+    runs = camera_runs(core, procedural_test, "procedural", "test", objects, "virtual", seed=1, record=True)
+    probs, states, whole = full_length(runs, 3)
+    assert len(whole) == 3 and probs.shape[:2] == (3, 3) and states.shape == (3, 3, core.model.config.state_size)
+    np.testing.assert_allclose(probs.sum(-1), 1.0, atol=1e-5)
+    for i, r, p in zip(objects, runs, probs):
+        assert r.status == "recognized" and r.label == procedural_test.items[i][1]
+        assert r.right == (int(p[-1].argmax()) == r.label)
+    # the last state is the one the episode ended with
+    np.testing.assert_allclose(states[-1, -1], core.episode.hidden[0].numpy(), rtol=1e-6)
+    assert not np.allclose(states[0, 0], states[0, 1])  # one per image, not one copied
+
+
+def test_a_run_without_images_is_left_out_of_full_length(procedural_test):
+    path = checkpoint.shipped("procedural")
+    core = ActiveRecognizer(path, EpisodeConfig(2, 0.0), sensing=SensingConfig(use_size=False))
+    runs = camera_runs(core, procedural_test, "procedural", "test", [3], "virtual", seed=0, record=True)
+    runs[0].probs, runs[0].states = runs[0].probs[:1], runs[0].states[:1]  # as if one image came
+    with pytest.raises(ValueError):  # nothing left to stack
+        full_length(runs, 2)
+
+
+def test_sizes_shown_are_kept_within_the_datasets_bounds():
+    class Sized:
+        def __init__(self, size):
+            self.value = size
+
+        def size(self, i):
+            return self.value
+
+    assert shown_size(Sized(115.0), 0) == 3.0 and shown_size(Sized(0.1), 0) == 0.3
+    assert shown_size(Sized(0.5), 0) == 0.5 and shown_size(Sized(None), 0) == 1.0
+
+
+def test_the_answer_fitted_through_a_camera_keeps_the_better_means_on_val(dataset_cache, monkeypatch):
+    """open_set_fit --camera: thresholds from episodes through the camera, the means whose val
+    AUROC is the higher, and val shares that agree with the stored thresholds."""
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    path = checkpoint.shipped("procedural")
+    entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10,
+                             camera="virtual")
+    fitted = entry["fitted_on"]
+    by = fitted["val_auroc_by_means"]
+    assert fitted["camera"] == "virtual" and fitted["means_from"] == max(by, key=by.get)
+    assert fitted["val_auroc"] == pytest.approx(by[fitted["means_from"]], abs=1e-4)
+    assert len(entry["threshold"]) == 3 and fitted["val_known_rejected"] <= 0.2
+    rendered = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10)
+    assert rendered["fitted_on"]["camera"] == "model"
+    assert torch.equal(entry["means"], rendered["means"]) == (fitted["means_from"] == "renders")
+    assert open_set.step_thresholds(entry["threshold"], 3).shape == (3,)
