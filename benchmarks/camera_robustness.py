@@ -19,6 +19,7 @@ other rows, seed or model must name its own --out. Last line is JSON:
 """
 import argparse
 import json
+import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 from pathlib import Path
@@ -150,7 +151,9 @@ def run(ap, args):
         ap.error(f"--objects must be 1..{n_test}")
     objects = np.sort(np.random.default_rng(args.seed).permutation(n_test)[:args.objects])
     rows = {}
-    with ProcessPoolExecutor(args.workers) as pool:
+    # spawned, not forked: a worker forked while one of this process's threads held a lock
+    # (5 threads by then) waited on it for ever, every row unstarted after 10 minutes
+    with ProcessPoolExecutor(args.workers, mp_context=multiprocessing.get_context("spawn")) as pool:
         jobs = [pool.submit(run_row, name, objects, args.seed, args.checkpoint, args.dataset,
                             args.root) for name in args.rows]
         for job in tqdm(jobs, desc="rows"):
