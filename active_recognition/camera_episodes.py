@@ -38,6 +38,7 @@ class CameraRun:
 
 
 def shown_size(ds, i):
+    """The size (metres) item i of ds is shown at: its own, else 1 m, kept within SIZES."""
     return min(max(ds.size(int(i)) or 1.0, SIZES[0]), SIZES[1])
 
 

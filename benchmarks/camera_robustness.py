@@ -30,6 +30,7 @@ from results_page import write_results_page
 from tqdm import tqdm
 
 from active_recognition import checkpoint
+from active_recognition.camera_episodes import shown_size
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.episode import EpisodeConfig
 from active_recognition.evaluate import EvalConfig
@@ -65,8 +66,6 @@ ROWS = {
     "yaw unknown": ({}, 1.0, 0.0),
     "cross-style (held-out styles)": ({}, 1.0, 0.0),
 }
-# metres: the sizes the objects are shown at, a household object's (ModelNet's own within these)
-SIZES = (0.3, 3.0)
 # rows that change the object, not the camera: a random heading, or the held-out styles
 OBJECTS = {"yaw unknown": {"yaw": True}, "cross-style (held-out styles)": {"split": "cross"}}
 
@@ -90,7 +89,7 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
     for i in objects:
         # metres: ModelNet's own (its files are in inches), else 1 m; kept within a household
         # object's, as a tenth of ModelNet10's test files are drawn in other units (a 115 m bathtub)
-        size = min(max(test.size(int(i)) or 1.0, SIZES[0]), SIZES[1])
+        size = shown_size(test, i)
         sim = SimulatedCamera(replace(sensor, object_size=size * sensor.object_size),
                               seed=seed * 100003 + int(i), offset=off * directions[i], yaw=yaws[i])
         sim.load(dataset=dataset, split=split, index=int(i), root=root or "")

@@ -50,12 +50,11 @@ def run(ap, args):
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, node.sensing, node.limits)
     groups = {}
     for group, dataset, root in (("known", "modelnet", args.root), ("unknown", "unknowns", None)):
-        n = len(open_dataset(dataset, root, "test", cache_dir=default_cache_dir()))
-        if not 1 <= args.objects <= n:
-            ap.error(f"--objects must be 1..{n} (the {dataset} test objects)")
-        objects = np.sort(np.random.default_rng(args.seed).permutation(n)[:args.objects])
-        runs = camera_runs(core, open_dataset(dataset, root, "test", cache_dir=default_cache_dir()), dataset,
-                           "test", objects, args.camera, args.seed, root)
+        test = open_dataset(dataset, root, "test", cache_dir=default_cache_dir())
+        if not 1 <= args.objects <= len(test):
+            ap.error(f"--objects must be 1..{len(test)} (the {dataset} test objects)")
+        objects = np.sort(np.random.default_rng(args.seed).permutation(len(test))[:args.objects])
+        runs = camera_runs(core, test, dataset, "test", objects, args.camera, args.seed, root)
         groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]))
     (ks, kr, kscore), (us, _, uscore) = groups["known"], groups["unknown"]
     seen = np.isfinite(kscore), np.isfinite(uscore)

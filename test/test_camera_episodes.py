@@ -22,8 +22,8 @@ def procedural_test(dataset_cache, monkeypatch):
 
 def test_recorded_runs_hold_each_images_answer_and_state(procedural_test):
     """Without a stop every run takes max_views images; each recorded answer is a distribution,
-    the last one is the run's answer (right where it names the object's class), and each state
-    is the recurrent state the model's own step gives for that image."""
+    the last one is the run's answer (right where it names the object's class), one state is
+    kept per image, and the last is the state the episode ended with."""
     path = checkpoint.shipped("procedural")
     core = ActiveRecognizer(path, EpisodeConfig(3, 0.0), sensing=SensingConfig(use_size=False))
     objects = [0, 7, 40]
@@ -61,8 +61,9 @@ def test_sizes_shown_are_kept_within_the_datasets_bounds():
 
 
 def test_the_answer_fitted_through_a_camera_keeps_the_better_means_on_val(dataset_cache, monkeypatch):
-    """open_set_fit --camera: thresholds from episodes through the camera, the means whose val
-    AUROC is the higher, and val shares that agree with the stored thresholds."""
+    """open_set_fit --camera: one threshold per step from episodes through the camera, the
+    means whose val AUROC is the higher (the renders' exactly where those were chosen), and a
+    val rejection within the asked share."""
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     path = checkpoint.shipped("procedural")
     entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10,
