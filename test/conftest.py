@@ -101,3 +101,48 @@ def need_vision_msgs():
         if os.environ.get("CI"):
             pytest.fail(ma.VISION_MSGS_MISSING)
         pytest.skip(ma.VISION_MSGS_MISSING, allow_module_level=True)
+
+
+# A node a test makes must be destroyed by the test's end (ros_session destroys those added to its
+# executor). One left over keeps its DDS participant alive until the garbage collector happens by:
+# it goes on answering discovery in the run's domain, and a latched topic of it reaches the later
+# tests of the same worker (seen in CI: a late LabelInfo subscriber heard a leaked recognizer).
+_made_nodes = None  # weak references to the nodes made during the running test
+
+
+def _track_nodes():
+    node_module = sys.modules.get("rclpy.node")
+    if node_module is None or getattr(node_module.Node, "_tracked", False):
+        return
+    import weakref
+
+    cls, init, destroy = node_module.Node, node_module.Node.__init__, node_module.Node.destroy_node
+
+    def tracked_init(self, *args, **kwargs):
+        init(self, *args, **kwargs)
+        if _made_nodes is not None:
+            _made_nodes.append((weakref.ref(self), self.get_fully_qualified_name()))
+
+    def tracked_destroy(self, *args, **kwargs):
+        self._destroyed_by_test = True
+        return destroy(self, *args, **kwargs)
+    cls.__init__, cls.destroy_node, cls._tracked = tracked_init, tracked_destroy, True
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_call(item):
+    global _made_nodes
+    _track_nodes()
+    _made_nodes = []
+    yield
+    item._made_nodes, _made_nodes = _made_nodes, None
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_teardown(item, nextitem):
+    yield
+    left = [name for ref, name in getattr(item, "_made_nodes", ())
+            if ref() is not None and not getattr(ref(), "_destroyed_by_test", False)]
+    if left:
+        pytest.fail(f"nodes made by the test and never destroyed: {', '.join(left)} (add them to "
+                    "the ros_session executor, or destroy_node() them)", pytrace=False)

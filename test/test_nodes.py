@@ -171,6 +171,8 @@ def test_the_recognizer_loads_the_shipped_modelnet10_model_unless_told_otherwise
     with ros_session() as (ctx, executor):
         default = Recognizer(context=ctx)
         procedural = Recognizer(context=ctx, namespace="p", parameter_overrides=[PROCEDURAL])
+        for node in (default, procedural):  # ros_session destroys them: left, they go on answering
+            executor.add_node(node)         # discovery, the latched label_info heard by later tests
         for node, expected in ((default, model), (procedural, checkpoint.load_model()[0])):
             got = node.core.model.state_dict()
             assert all(torch.equal(got[k], v) for k, v in expected.state_dict().items())
@@ -379,6 +381,7 @@ def test_a_failed_configure_is_logged_and_reported_as_an_error_on_diagnostics():
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, parameter_overrides=[
             Parameter("autostart", value=False), Parameter("checkpoint", value="/nonexistent.pt")])
+        executor.add_node(recognizer)  # destroyed at the end of the session
         assert recognizer.state == "unconfigured"  # nothing loaded, nothing opened
         assert recognizer.core is None and recognizer.inputs == []
         assert recognizer.trigger_configure() == TransitionCallbackReturn.FAILURE
@@ -389,6 +392,7 @@ def test_a_failed_configure_is_logged_and_reported_as_an_error_on_diagnostics():
         assert values["model"] == "/nonexistent.pt" and values["model loaded"] == "false"
         good = Recognizer(context=ctx, parameter_overrides=[Parameter("autostart", value=False),
                                                             Parameter("max_views", value=0)])
+        executor.add_node(good)
         assert good.trigger_configure() == TransitionCallbackReturn.FAILURE
         assert "max_views must be" in str(good.failure)
 
