@@ -210,7 +210,8 @@ class Trainer:
         for epoch in range(self.state["epoch"], epochs):
             losses, accs = (self.loc_round if stage == "loc" else self.epoch)(stage, epoch, epochs, net, opt)
             self.state.update(epoch=epoch + 1, batch=0, losses=[], accs=[])
-            self.log_epoch(stage, epoch, losses, accs)
+            scored = (epoch + 1) % cfg.eval_every == 0 or epoch + 1 == epochs
+            self.log_epoch(stage, epoch, losses, accs, scored)
             self.save_state(opt)
         # free DDP's reducer now: left to reference cycles it outlives destroy_process_group, and gloo's
         # threads then abort the process at exit ("terminate called without an active exception", CI)
@@ -318,14 +319,17 @@ class Trainer:
         views = torch.as_tensor(np.concatenate(inputs.views), dtype=torch.float32, device=self.device)
         return net(depth.to(self.device), y.repeat_interleave(k), views, **odd)
 
-    def log_epoch(self, stage, epoch, losses, accs):
+    def log_epoch(self, stage, epoch, losses, accs, scored=True):
+        """A metrics.csv row for the epoch: its loss and training accuracy, and where `scored` the
+        validation shapes' accuracy (evaluation mode, its own seeded draws: the run's random
+        streams and batch-norm statistics are untouched, so skipping it changes nothing learned)."""
         if self.rank != 0:
             return
         row = {"stage": stage, "epoch": epoch + 1, "step": self.state["step"],
                "wall_s": round(time.perf_counter() - self.start, 2),
                "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
                "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
-               **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes, seed=self.cfg.seed,
+               **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes * scored, seed=self.cfg.seed,
                                    planner=None if stage == "loc" else own_planner(self.model, self.cfg.policy),
                                    limits=self.limits)}
         self.rows.append(row)

@@ -85,6 +85,9 @@ class TrainConfig:
     gradient_reduction: str = option("mean", choices=("mean", "sum"),
                                      help="how per-pixel view gradients are reduced")
     eval_shapes: int = option(200, lo=0, help="validation shapes scored per epoch (metrics.csv; 0: none)")
+    eval_every: int = option(1, lo=1, help=(
+        "score the validation shapes every N epochs of a stage and at its last (metrics.csv; "
+        "the epochs between get blank cells). Nothing trained reads them: only the clock moves"))
     checkpoint_every: int = option(50, lo=1, help="write last.pt every N batches")
     seed: int = option(0, lo=0, hi=SEED_MAX, help="seed of every random choice")
     device: str = option("cpu", pattern=r"cpu|cuda(:[0-9]+)?", text="cpu, cuda or cuda:N",

@@ -363,3 +363,24 @@ def test_a_render_worker_that_cannot_start_says_why(tmp_path):
     cfg = TrainConfig(**TINY, dataset="modelnet", root=str(tmp_path / "nowhere"), out=str(tmp_path / "o"))
     with pytest.raises(RuntimeError, match="render worker failed:(.|\n)*nowhere"):
         RenderWorker(cfg, Trainer, joint_loss)
+
+
+def test_validation_every_few_epochs_leaves_blanks_and_trains_the_same_weights(tmp_path):
+    """eval_every N scores the validation shapes at every Nth epoch of a stage and at its last;
+    the weights are those of the run scored every epoch, bit for bit (evaluation draws nothing
+    from the run's random streams and leaves batch norm's statistics alone)."""
+    from active_recognition.run_metrics import read_metrics
+
+    cfg = {**TINY, "policy": "imitation", "pretrain_epochs": 3, "joint_epochs": 1, "eval_shapes": 4,
+           "model": {**TINY["model"], "candidates": 8, "view_input": True, "encoder": "wide"}}
+    for name, every in (("each", 1), ("sparse", 2)):
+        train(TrainConfig(**cfg, eval_every=every, out=str(tmp_path / name)), progress=False)
+    each, sparse = (read_metrics(tmp_path / r / "metrics.csv") for r in ("each", "sparse"))
+    assert [(r["stage"], r["epoch"]) for r in sparse] == [(r["stage"], r["epoch"]) for r in each]
+    scored = [(r["stage"], r["epoch"]) for r in sparse if r["acc_3"] != ""]
+    assert scored == [("pretrain", "2"), ("pretrain", "3"), ("joint", "1")]
+    assert all(r["acc_3"] != "" for r in each)
+    for a, b in zip(each, sparse):  # the same losses, and the same figures where both scored
+        assert a["loss"] == b["loss"] and (b["acc_3"] == "" or a["acc_3"] == b["acc_3"])
+    a, b = weights(tmp_path / "each" / "final.pt"), weights(tmp_path / "sparse" / "final.pt")
+    assert all(torch.equal(a[k], b[k]) for k in a)
