@@ -329,7 +329,7 @@ class Trainer:
                "wall_s": round(time.perf_counter() - self.start, 2),
                "loss": round(float(np.mean(losses)) if losses else float("nan"), 4),
                "train_acc": round(float(np.mean(accs)) if accs else float("nan"), 4),
-               **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes * scored, seed=self.cfg.seed,
+               **evaluate_accuracy(self.model, self.val, self.cfg.eval_shapes if scored else 0, seed=self.cfg.seed,
                                    planner=None if stage == "loc" else own_planner(self.model, self.cfg.policy),
                                    limits=self.limits)}
         self.rows.append(row)

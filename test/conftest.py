@@ -124,7 +124,7 @@ def _track_nodes():
             _made_nodes.append((weakref.ref(self), self.get_fully_qualified_name()))
 
     def tracked_destroy(self, *args, **kwargs):
-        self._destroyed_by_test = True
+        self._destroyed = True
         return destroy(self, *args, **kwargs)
     cls.__init__, cls.destroy_node, cls._tracked = tracked_init, tracked_destroy, True
 
@@ -142,7 +142,7 @@ def pytest_runtest_call(item):
 def pytest_runtest_teardown(item, nextitem):
     yield
     left = [name for ref, name in getattr(item, "_made_nodes", ())
-            if ref() is not None and not getattr(ref(), "_destroyed_by_test", False)]
+            if ref() is not None and not getattr(ref(), "_destroyed", False)]
     if left:
         pytest.fail(f"nodes made by the test and never destroyed: {', '.join(left)} (add them to "
                     "the ros_session executor, or destroy_node() them)", pytrace=False)
