@@ -26,7 +26,8 @@ SIZES = (0.3, 3.0)  # metres the objects are shown within
 
 @dataclass
 class CameraRun:
-    """One episode: its last observation's status and whether it named the right class, and per
+    """One episode: its last observation's status and whether it named the right class, per
+    classified image its energy and prototype score (the recognizer's open-set evidence), and per
     image the class probabilities and the recurrent state (recorded only where asked)."""
 
     status: str
@@ -35,6 +36,8 @@ class CameraRun:
     score: float  # the running prototype score at the end (NaN where none was taken)
     probs: list
     states: list
+    energies: list
+    prototypes: list
 
 
 def shown_size(ds, i):
@@ -70,7 +73,7 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
         runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
                               obs is not None and obs.status == "recognized" and obs.label == truth,
                               float(np.mean(core.prototypes)) if core.prototypes else float("nan"),
-                              probs, states))
+                              probs, states, list(core.energies), list(core.prototypes)))
     return runs
 
 

@@ -145,6 +145,9 @@ def run(ap, args):
                      limits=ViewLimits(args.min_elevation, args.max_elevation))
     if args.split == "test":  # on the validation split, before test is read
         chosen, val_acc = choose_default(cfg, out)
+        if args.dataset == "modelnet":  # the node's model, for a robot's camera: its default is chosen
+            # through one on val (validation_camera.py --ship); the renders' scores stay in val_acc_3
+            chosen = checkpoint.read(model).get("default_planner") or chosen
     else:  # the held-out styles: the default the test run chose, as the shipped model records it
         chosen, val_acc = checkpoint.read(model).get("default_planner"), None
     results = evaluate(cfg)

@@ -8,7 +8,7 @@ import pytest
 import torch
 
 from active_recognition import checkpoint, open_set, open_set_fit
-from active_recognition.camera_episodes import camera_runs, full_length, shown_size
+from active_recognition.camera_episodes import CameraRun, camera_runs, full_length, shown_size
 from active_recognition.datasets import open_dataset
 from active_recognition.episode import EpisodeConfig
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
@@ -77,3 +77,56 @@ def test_the_answer_fitted_through_a_camera_keeps_the_better_means_on_val(datase
     assert rendered["fitted_on"]["camera"] == "model"
     assert torch.equal(entry["means"], rendered["means"]) == (fitted["means_from"] == "renders")
     assert open_set.step_thresholds(entry["threshold"], 3).shape == (3,)
+
+
+def test_each_runs_evidence_is_recorded_image_by_image(dataset_cache, monkeypatch, tmp_path):
+    """A run keeps each classified image's energy and prototype score: as many as its images,
+    the prototypes those of its recorded states against the checkpoint's means (recomputed
+    here), their mean the run's score, and no prototype where the checkpoint has no means."""
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    path = checkpoint.shipped("procedural")
+    fitted = tmp_path / "open_set.pt"
+    open_set_fit.store(path, open_set_fit.fit(path, "procedural", objects=20, steps=3, val_objects=5), fitted)
+    test = open_dataset("procedural", None, "test", cache_dir=dataset_cache)
+    sensing = SensingConfig(use_size=False, unknown_threshold=0.0, hold_unknown=False)
+    core = ActiveRecognizer(str(fitted), EpisodeConfig(3, 0.0), sensing=sensing)
+    runs = camera_runs(core, test, "procedural", "test", [0, 5], "virtual", seed=2, record=True)
+    means = core.model.open_set["means"].numpy()
+    for r in runs:
+        assert len(r.energies) == len(r.prototypes) == len(r.probs) == 3 and np.isfinite(r.energies).all()
+        again = open_set.prototype_steps(np.stack(r.states)[None], means)[0]
+        np.testing.assert_allclose(r.prototypes, again, rtol=1e-5, atol=1e-6)
+        assert r.score == pytest.approx(np.mean(r.prototypes))
+    plain = ActiveRecognizer(path, EpisodeConfig(2, 0.0), sensing=SensingConfig(use_size=False))
+    run = camera_runs(plain, test, "procedural", "test", [0], "virtual", seed=2)[0]
+    assert len(run.energies) == 2 and run.prototypes == [] and np.isnan(run.score)
+
+
+def test_validation_through_the_camera_scores_answers_by_views_and_keeps_a_default_within_its_error():
+    """benchmarks/validation_camera.py: an answer after t views is the last image's by then (none
+    before the first); the rule moves off the default only for a lead above one paired s.e."""
+    from conftest import load_benchmark
+
+    vc = load_benchmark("validation_camera")
+    one_hot = lambda c: np.eye(3)[c]  # noqa: E731
+    runs = [CameraRun("recognized", 1, True, 0.1, [one_hot(0), one_hot(1)], [], [-1.0, -2.0], [0.2, 0.4]),
+            CameraRun("no_object", 2, False, float("nan"), [], [], [], [])]
+    np.testing.assert_array_equal(vc.answers(runs, 4), [[0, 1, 1, 1], [-1, -1, -1, -1]])
+    ends = vc.end_scores(runs, 1)
+    assert ends["prototype_mean"][0] == pytest.approx(0.2) and ends["energy_mean"][0] == -1.0
+    assert ends["msp_mean"][0] == 0.0 and np.isinf(ends["prototype_mean"][1])
+    assert vc.end_scores(runs, 2)["prototype_mean"][0] == pytest.approx(0.3)
+    base = np.zeros((40, 3))
+
+    def rows(right, auroc):
+        return {p: {"mean": float(r.mean()), "auroc": {"prototype_mean": [0.5, a]}}
+                for (p, r), a in zip(right.items(), auroc)}
+
+    close = {"learned": base.copy(), "imitation": base.copy()}
+    close["imitation"][:2], close["learned"][2] = 1, 1  # 2 better, 1 worse of 40: 0.025 against s.e. 0.044
+    assert vc.paired(close, "imitation", "learned") == pytest.approx((0.025, 0.0437), abs=1e-4)
+    assert vc.rule(rows(close, (0.97, 0.98)), close) == ("imitation", ["learned", "imitation"])
+    assert vc.rule(rows(close, (0.99, 0.98)), close)[0] == "learned"  # a tie goes to the better AUROC
+    clear = {"learned": base.copy(), "imitation": base.copy()}
+    clear["learned"][:8] = 1  # 8 of 40: 0.2 against s.e. 0.064
+    assert vc.rule(rows(clear, (0.97, 0.99)), clear) == ("learned", ["learned"])  # accuracy first

@@ -1,0 +1,188 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""The node's planners and `unknown` scores on ModelNet10's validation split as the node meets
+it: every val object shot through a simulated camera and the recognizer's own path
+(SimulatedCamera -> ActiveRecognizer.observe; camera_episodes.py), `--starts` seeded starts each
+(the same for every planner), 10 views without a stop or a hold; the unknowns' val styles
+(datasets/unknowns.py) beside them, from the first start. Test objects are never read.
+
+Prints, per planner, the accuracy after 3, 6 and 9 views (the closed-set answer) and its mean,
+the paired difference of that mean from the checkpoint's default planner with its standard
+error, and the AUROC of prototype_mean, energy_mean and msp_mean after 1, 3, 6 and 10 views.
+`rule` names the default the validation split supports: of the planners whose mean is within
+one paired standard error of the best's, the one whose prototype_mean (the node's `unknown`
+score) tells the val unknowns best after 10 views. (Stated before the first run, 2026-12-02:
+the default, learned, stays unless the best leads it by more than one paired standard error;
+the tie-break by AUROC was added after learned and imitation tied on accuracy.) Writes
+docs/results/modelnet10/validation_camera.json (a partial run must give --out); last line JSON.
+With --ship the chosen planner becomes modelnet10.pt's `default_planner` (the node's planner
+`auto`) and docs/results/modelnet10/summary.json's: ModelNet10's model serves a robot's camera,
+so its default is chosen here, and benchmarks/planners.py keeps it.
+
+    python benchmarks/validation_camera.py --root ~/data/ModelNet10 [--starts 3] [--objects 0] [--ship]
+"""
+import argparse
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from common import emit, one_line_errors, output, results_dir
+
+from active_recognition import checkpoint, open_set
+from active_recognition.camera_episodes import camera_runs
+from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
+from active_recognition.episode import EpisodeConfig
+from active_recognition.evaluate import EvalConfig
+from active_recognition.node_params import RecognizerParameters
+from active_recognition.options import add_flags
+from active_recognition.recognizer import ActiveRecognizer
+from active_recognition.report import write_json
+from active_recognition.simulated_camera import PRESETS
+
+STEPS = 10
+CUTS = (3, 6, 9)  # views after which the closed-set answer is scored
+AUROC_AT = (1, 3, 6, 10)
+PLANNERS = ("learned", "imitation", "random")
+STARTS, SEED = 3, 1000
+
+
+def answers(runs, steps=STEPS):
+    """(N, steps) the class each run answered after 1..steps images (-1 before its first)."""
+    out = np.full((len(runs), steps), -1)
+    for j, run in enumerate(runs):
+        classes = [int(np.argmax(p)) for p in run.probs[:steps]]
+        if classes:
+            out[j, :len(classes)] = classes
+            out[j, len(classes):] = classes[-1]
+    return out
+
+
+def running_end(values, t):
+    """The mean of a run's first t per-view scores (inf where it scored none: unknown-looking)."""
+    return float(np.mean(values[:t])) if len(values[:t]) else float("inf")
+
+
+def end_scores(runs, t):
+    """{score: (N,)} of runs after t views: the running means the recognizer keeps."""
+    return {"prototype_mean": np.array([running_end(r.prototypes, t) for r in runs]),
+            "energy_mean": np.array([running_end(r.energies, t) for r in runs]),
+            "msp_mean": np.array([running_end([1 - np.max(p) for p in r.probs], t) for r in runs])}
+
+
+def planner_runs(path, planner, groups, preset, starts, seed):
+    """{known: [runs of each start], unknown: runs} of one planner (a core of its own, seeded 0);
+    groups: ((dataset, name, root, count), (dataset, name, count))."""
+    node = RecognizerParameters()
+    sensing = replace(node.sensing, unknown_threshold=0.0, hold_unknown=False)
+    core = ActiveRecognizer(str(path), EpisodeConfig(STEPS, 0.0), 0, planner, sensing, node.limits)
+    (known, kname, root, nk), (unknown, uname, nu) = groups
+    runs = {"known": [camera_runs(core, known, kname, "val", np.arange(nk), preset, seed + s, root, record=True)
+                      for s in range(starts)]}
+    runs["unknown"] = camera_runs(core, unknown, uname, "val", np.arange(nu), preset, seed, record=True)
+    return runs
+
+
+def summarise(runs):
+    """One planner's accuracies, per-episode right (episodes, cuts) and AUROCs."""
+    right = np.concatenate([answers(r)[:, [c - 1 for c in CUTS]] == np.array([x.label for x in r])[:, None]
+                            for r in runs["known"]])
+    first, unknown = runs["known"][0], runs["unknown"]
+    auroc = {}
+    for t in AUROC_AT:
+        k, u = end_scores(first, t), end_scores(unknown, t)
+        for name in k:
+            auroc.setdefault(name, []).append(round(open_set.auroc(k[name], u[name]), 4))
+    return right, {"acc": {str(c): round(float(right[:, i].mean()), 4) for i, c in enumerate(CUTS)},
+                   "mean": round(float(right.mean()), 4), "episodes": len(right), "auroc": auroc}
+
+
+def paired(right, a, b):
+    """(mean, standard error) of the per-episode difference a - b of the 3/6/9-view mean."""
+    diff = right[a].mean(1) - right[b].mean(1)
+    return float(diff.mean()), float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("inf")
+
+
+def rule(rows, right):
+    """The planner the stated rule names: of those whose mean accuracy is within one paired
+    standard error of the best's, the one whose prototype_mean tells the val unknowns best after
+    10 views (the node's score). -> (planner, the planners tied with the best)."""
+    best = max(rows, key=lambda p: rows[p]["mean"])
+    tied = [p for p in rows if p == best or (lambda d: d[0] <= d[1])(paired(right, best, p))]
+    return max(tied, key=lambda p: rows[p]["auroc"]["prototype_mean"][-1]), tied
+
+
+def ship(path, chosen, summary):
+    """Record `chosen` as the default planner of the model at `path` and of its test summary."""
+    ckpt = checkpoint.read(path)
+    ckpt["default_planner"] = chosen
+    ckpt.pop("format")
+    checkpoint.save(path, ckpt)
+    if summary.is_file():
+        write_json(summary, {**json.loads(summary.read_text()), "default_planner": chosen,
+                             "default_chosen_by": "validation_camera.json"})
+    print(f"{path}: default planner {chosen}")
+
+
+def run(ap, args):
+    partial = [flag for flag, on in (("--objects", args.objects), ("--starts", args.starts != STARTS),
+                                     ("--seed", args.seed != SEED), ("--checkpoint", args.checkpoint),
+                                     ("--camera", args.camera != "realsense")) if on]
+    if args.ship and (partial or args.checkpoint):
+        ap.error(f"--ship records what the whole benchmark chose for the shipped model; leave out "
+                 f"{', '.join(partial)}")
+    args.out = output(ap, args.out, str(results_dir("modelnet") / "validation_camera.json"), partial)
+    path = checkpoint.model_path(args.checkpoint, "modelnet")
+    model, _, ckpt = checkpoint.load_model(path)
+    if model.open_set is None:
+        ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
+    default = ckpt.get("default_planner") or "learned"
+    val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]
+    unknown = open_dataset("unknowns", split="val", cache_dir=default_cache_dir())
+    if args.starts < 1 or args.objects < 0:
+        ap.error("--starts must be at least 1 and --objects at least 0")
+    nk, nu = (min(args.objects, len(d)) if args.objects else len(d) for d in (val, unknown))
+    rows, right = {}, {}
+    for planner in dict.fromkeys((default, *args.planners)):
+        runs = planner_runs(path, planner, ((val, "modelnet", args.root, nk), (unknown, "unknowns", nu)), args.camera,
+                            args.starts, args.seed)
+        right[planner], rows[planner] = summarise(runs)
+        print(f"{planner}: after 3/6/9 views {rows[planner]['acc']}, mean {rows[planner]['mean']:.4f} "
+              f"({rows[planner]['episodes']} episodes); AUROC after {AUROC_AT} views {rows[planner]['auroc']}",
+              flush=True)
+    for planner in rows:
+        rows[planner]["minus_default"], rows[planner]["minus_default_se"] = (
+            round(v, 4) for v in paired(right, planner, default))
+    chosen, tied = rule(rows, right)
+    record = {"camera": args.camera, "checkpoint": path.name, "default": default, "starts": args.starts,
+              "seed": args.seed, "known_objects": nk, "unknown_objects": nu, "planners": rows,
+              "rule": {"chosen": chosen, "tied_with_the_best": tied}}
+    print(f"rule: {chosen} (within one paired s.e. of the best mean: {', '.join(tied)}; of those the "
+          f"best val AUROC after {STEPS} views)")
+    if args.out:
+        write_json(Path(args.out), record)
+    if args.ship:
+        ship(path, chosen, results_dir("modelnet") / "summary.json")
+    emit({"chosen": chosen, **{p: rows[p]["acc"] for p in rows}})
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    add_flags(ap, EvalConfig, ["root", "checkpoint"], root={"required": True})
+    ap.add_argument("--planners", nargs="+", default=list(PLANNERS), help="planners beside the default")
+    ap.add_argument("--starts", type=int, default=STARTS, help=f"seeded starts per val object (default {STARTS})")
+    ap.add_argument("--seed", type=int, default=SEED, help=f"first start's seed (default {SEED})")
+    ap.add_argument("--objects", type=int, default=0, help="the first N val objects of each group (0: all)")
+    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
+                    "docs/results/modelnet10/validation_camera.json; a partial run must give it)")
+    ap.add_argument("--ship", action="store_true", help="record the chosen planner as the shipped model's "
+                    "default (the node's planner auto) and in docs/results/modelnet10/summary.json")
+    args = ap.parse_args(argv)
+    with one_line_errors(ap):
+        run(ap, args)
+
+
+if __name__ == "__main__":
+    main()
