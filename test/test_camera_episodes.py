@@ -130,3 +130,26 @@ def test_validation_through_the_camera_scores_answers_by_views_and_keeps_a_defau
     clear = {"learned": base.copy(), "imitation": base.copy()}
     clear["learned"][:8] = 1  # 8 of 40: 0.2 against s.e. 0.064
     assert vc.rule(rows(clear, (0.97, 0.99)), clear) == ("learned", ["learned"])  # accuracy first
+
+
+def test_shipping_the_validation_choice_records_it_for_the_nodes_auto(tmp_path):
+    """validation_camera --ship: the checkpoint's planner `auto` and the test summary's default
+    become the chosen planner; the rest of both is kept and the model still loads."""
+    import json
+    import shutil
+
+    from conftest import load_benchmark
+
+    from active_recognition.recognizer import choose_planner
+
+    vc = load_benchmark("validation_camera")
+    path, summary = tmp_path / "m.pt", tmp_path / "summary.json"
+    shutil.copy(checkpoint.shipped("procedural"), path)
+    summary.write_text(json.dumps({"acc": {"random": {"3": 0.5}}, "default_planner": "imitation"}))
+    before = checkpoint.read(path)
+    vc.ship(path, "random", summary)
+    model, _, after = checkpoint.load_model(path)
+    assert choose_planner("auto", model, after) == "random" and before["default_planner"] != "random"
+    assert after.get("fixed_path") == before.get("fixed_path") and after["config"] == before["config"]
+    assert json.loads(summary.read_text()) == {"acc": {"random": {"3": 0.5}}, "default_planner": "random",
+                                               "default_chosen_by": "validation_camera.json"}
