@@ -153,3 +153,21 @@ def test_shipping_the_validation_choice_records_it_for_the_nodes_auto(tmp_path):
     assert after.get("fixed_path") == before.get("fixed_path") and after["config"] == before["config"]
     assert json.loads(summary.read_text()) == {"acc": {"random": {"3": 0.5}}, "default_planner": "random",
                                                "default_chosen_by": "validation_camera.json"}
+
+
+def test_a_camera_run_cut_short_answers_as_a_robot_allowed_that_many_images_would():
+    """open_set_camera's cut: after t images the answer then, `unknown` where the running
+    prototype score is above that step's threshold; a run that ended sooner as it ended."""
+    from conftest import load_benchmark
+
+    osc = load_benchmark("open_set_camera")
+    one_hot = lambda c: np.eye(3)[c]  # noqa: E731
+    run = CameraRun("recognized", 2, True, 0.3, [one_hot(0), one_hot(2), one_hot(2)], [], [-1.0] * 3,
+                    [0.9, 0.1, 0.1])
+    assert osc.cut(run, 1, [0.5, 0.6]) == (True, False)  # 0.9 above 0.5: unknown after one image
+    assert osc.cut(run, 2, [0.5, 0.6]) == (False, True)  # mean 0.5 within 0.6, class 2 right
+    assert osc.cut(run, 2, [0.5, 0.4]) == (True, False)  # mean 0.5 above 0.4
+    assert osc.cut(run, 3, [0.5, 0.6]) == (False, True)  # as it ended
+    ended = CameraRun("unknown", 2, False, 0.8, [one_hot(2)], [], [-1.0], [0.8])
+    assert osc.cut(ended, 3, [0.5]) == (True, False)
+    assert osc.cut(CameraRun("no_object", 1, False, float("nan"), [], [], [], []), 3, [0.5]) == (False, False)
