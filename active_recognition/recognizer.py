@@ -10,8 +10,9 @@ not classified; after `max_empty_views` of them in a row the episode ends with "
 Views keep within the robot's reach (reach.py: an elevation band, and the views it could not
 reach, `view_unreachable`); when no view can be had the episode ends with "no_image".
 The next view comes from a planner (policies.py); "auto" is the one the checkpoint names as its
-best (`default_planner`, measured by benchmarks/planners.py), else FC_view when the model has
-one, else its own FC_loc. The ROS node is a thin shell around this class.
+best (`default_planner`, chosen on validation by benchmarks/planners.py or
+validation_camera.py), else FC_view when the model has one, else its own FC_loc. The ROS node
+is a thin shell around this class.
 """
 from __future__ import annotations
 
