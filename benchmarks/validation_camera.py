@@ -126,10 +126,12 @@ def ship(path, chosen, summary):
 
 
 def run(ap, args):
+    if args.starts < 1 or args.objects < 0:
+        ap.error("--starts must be at least 1 and --objects at least 0")
     partial = [flag for flag, on in (("--objects", args.objects), ("--starts", args.starts != STARTS),
                                      ("--seed", args.seed != SEED), ("--checkpoint", args.checkpoint),
                                      ("--camera", args.camera != "realsense")) if on]
-    if args.ship and (partial or args.checkpoint):
+    if args.ship and partial:
         ap.error(f"--ship records what the whole benchmark chose for the shipped model; leave out "
                  f"{', '.join(partial)}")
     args.out = output(ap, args.out, str(results_dir("modelnet") / "validation_camera.json"), partial)
@@ -140,8 +142,6 @@ def run(ap, args):
     default = ckpt.get("default_planner") or "learned"
     val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]
     unknown = open_dataset("unknowns", split="val", cache_dir=default_cache_dir())
-    if args.starts < 1 or args.objects < 0:
-        ap.error("--starts must be at least 1 and --objects at least 0")
     nk, nu = (min(args.objects, len(d)) if args.objects else len(d) for d in (val, unknown))
     rows, right = {}, {}
     for planner in dict.fromkeys((default, *args.planners)):
