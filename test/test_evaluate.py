@@ -326,7 +326,7 @@ def test_results_page_puts_modelnet10_beside_the_papers_table(results, tmp_path)
     assert "# Results on ModelNet10" in text and "| MV-RNN (paper) | 86.4 | 88.9 | 89.5 |" in text
     assert f"| straight | {100 * s['acc']['straight']['3']:.1f} |" in text
     assert f"| c0 | {100 * s['per_class_3']['learned'][0]:.1f} |" in text
-    assert "chosen on the validation split): `straight`" in text
+    assert "modelnet10/validation_camera.json): `straight`" in text
 
 
 def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(results, monkeypatch):
