@@ -143,11 +143,13 @@ def run(ap, args):
                      dataset=args.dataset, root=args.root, split=args.split, objects=args.objects,
                      starts=args.starts, out=str(out), yaw=args.yaw, size=args.size,
                      limits=ViewLimits(args.min_elevation, args.max_elevation))
+    chosen_by = None
     if args.split == "test":  # on the validation split, before test is read
         chosen, val_acc = choose_default(cfg, out)
         if args.dataset == "modelnet":  # the node's model, for a robot's camera: its default is chosen
             # through one on val (validation_camera.py --ship); the renders' scores stay in val_acc_3
-            chosen = checkpoint.read(model).get("default_planner") or chosen
+            recorded = checkpoint.read(model).get("default_planner")
+            chosen, chosen_by = (recorded, "validation_camera.json") if recorded else (chosen, None)
     else:  # the held-out styles: the default the test run chose, as the shipped model records it
         chosen, val_acc = checkpoint.read(model).get("default_planner"), None
     results = evaluate(cfg)
@@ -156,6 +158,8 @@ def run(ap, args):
                       out / "training_time.png")
     s["training_time"] = t
     s["default_planner"], s["val_acc_3"] = chosen, val_acc
+    if chosen_by:
+        s["default_chosen_by"] = chosen_by
     if args.dataset == "modelnet":  # the paper's Table 3, accuracy % after 3 / 6 / 9 views
         s["paper"] = {k: list(v) for k, v in PAPER_MODELNET10.items()}
     write_json(out / "summary.json", s)

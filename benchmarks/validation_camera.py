@@ -5,11 +5,13 @@
 it: every val object shot through a simulated camera and the recognizer's own path
 (SimulatedCamera -> ActiveRecognizer.observe; camera_episodes.py), `--starts` seeded starts each
 (the same for every planner), 10 views without a stop or a hold; the unknowns' val styles
-(datasets/unknowns.py) beside them, from the first start. Test objects are never read.
+(datasets/unknowns.py) beside them; the AUROCs compare both groups' first start. Test objects
+are never read.
 
 Prints, per planner, the accuracy after 3, 6 and 9 views (the closed-set answer) and its mean,
-the paired difference of that mean from the checkpoint's default planner with its standard
-error, and the AUROC of prototype_mean, energy_mean and msp_mean after 1, 3, 6 and 10 views.
+the paired difference of that mean from the checkpoint's default planner when it runs (the
+committed run's was learned) with its standard error, and the AUROC of prototype_mean,
+energy_mean and msp_mean after 1, 3, 6 and 10 views.
 `rule` names the default the validation split supports: of the planners whose mean is within
 one paired standard error of the best's, the one whose prototype_mean (the node's `unknown`
 score) tells the val unknowns best after 10 views. (Stated before the first run, 2026-12-02:
@@ -18,7 +20,9 @@ the tie-break by AUROC was added after learned and imitation tied on accuracy.) 
 docs/results/modelnet10/validation_camera.json (a partial run must give --out); last line JSON.
 With --ship the chosen planner becomes modelnet10.pt's `default_planner` (the node's planner
 `auto`) and docs/results/modelnet10/summary.json's: ModelNet10's model serves a robot's camera,
-so its default is chosen here, and benchmarks/planners.py keeps it.
+so its default is chosen here, and benchmarks/planners.py keeps it. The `unknown` thresholds are
+fitted for the planner `auto` names: after a change, fit them again (python -m
+active_recognition.open_set_fit --camera realsense).
 
     python benchmarks/validation_camera.py --root ~/data/ModelNet10 [--starts 3] [--objects 0] [--ship]
 """
@@ -37,7 +41,7 @@ from active_recognition.episode import EpisodeConfig
 from active_recognition.evaluate import EvalConfig
 from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
-from active_recognition.recognizer import ActiveRecognizer
+from active_recognition.recognizer import ActiveRecognizer, NODE_PLANNERS
 from active_recognition.report import write_json
 from active_recognition.simulated_camera import PRESETS
 
@@ -45,6 +49,7 @@ STEPS = 10
 CUTS = (3, 6, 9)  # views after which the closed-set answer is scored
 AUROC_AT = (1, 3, 6, 10)
 PLANNERS = ("learned", "imitation", "random")
+CHOICES = tuple(p for p in NODE_PLANNERS if p != "auto")  # auto is the default, run anyway
 STARTS, SEED = 3, 1000
 
 
@@ -122,19 +127,27 @@ def ship(path, chosen, summary):
     if summary.is_file():
         write_json(summary, {**json.loads(summary.read_text()), "default_planner": chosen,
                              "default_chosen_by": "validation_camera.json"})
-    print(f"{path}: default planner {chosen}")
+    print(f"{path}: default planner {chosen}; its unknown thresholds are fitted for the planner auto "
+          f"names: after a change, python -m active_recognition.open_set_fit --camera realsense")
 
 
 def run(ap, args):
     if args.starts < 1 or args.objects < 0:
         ap.error("--starts must be at least 1 and --objects at least 0")
+    bad = sorted(set(args.planners) - set(CHOICES))
+    if bad:
+        ap.error(f"--planners: {', '.join(bad)} not among the node's planners {', '.join(CHOICES)}")
     partial = [flag for flag, on in (("--objects", args.objects), ("--starts", args.starts != STARTS),
                                      ("--seed", args.seed != SEED), ("--checkpoint", args.checkpoint),
-                                     ("--camera", args.camera != "realsense")) if on]
+                                     ("--camera", args.camera != "realsense"),
+                                     ("--planners", set(args.planners) != set(PLANNERS))) if on]
     if args.ship and partial:
         ap.error(f"--ship records what the whole benchmark chose for the shipped model; leave out "
                  f"{', '.join(partial)}")
-    args.out = output(ap, args.out, str(results_dir("modelnet") / "validation_camera.json"), partial)
+    committed = str(results_dir("modelnet") / "validation_camera.json")
+    if args.ship and args.out is not None and Path(args.out).resolve() != Path(committed).resolve():
+        ap.error(f"--ship records the choice beside its committed figures ({committed}); leave out --out")
+    args.out = output(ap, args.out, committed, partial)
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model, _, ckpt = checkpoint.load_model(path)
     if model.open_set is None:
@@ -154,6 +167,8 @@ def run(ap, args):
     for planner in rows:
         rows[planner]["minus_default"], rows[planner]["minus_default_se"] = (
             round(v, 4) for v in paired(right, planner, default))
+        print(f"{planner} - {default}: {100 * rows[planner]['minus_default']:+.2f} points, paired s.e. "
+              f"{100 * rows[planner]['minus_default_se']:.2f}")
     chosen, tied = rule(rows, right)
     record = {"camera": args.camera, "checkpoint": path.name, "default": default, "starts": args.starts,
               "seed": args.seed, "known_objects": nk, "unknown_objects": nu, "planners": rows,

@@ -55,6 +55,12 @@ BAD_INPUT = [
      "a partial run (--objects) would overwrite the committed"),
     ("validation_camera.py", ["--root", "{tmp}", "--objects", "5", "--ship", "--out", "{tmp}/o"],
      "--ship records what the whole benchmark chose for the shipped model; leave out --objects"),
+    ("validation_camera.py", ["--root", "{tmp}", "--planners", "bogus", "--out", "{tmp}/o"],
+     "--planners: bogus not among the node's planners"),
+    ("validation_camera.py", ["--root", "{tmp}", "--planners", "random", "--ship"],
+     "--ship records what the whole benchmark chose for the shipped model; leave out --planners"),
+    ("validation_camera.py", ["--root", "{tmp}", "--ship", "--out", "{tmp}/o"],
+     "--ship records the choice beside its committed figures"),
     ("camera_robustness.py", ["--workers", "0"], "--workers must be at least 1, got 0"),
     ("camera_robustness.py", ["--rows", "clean"], "a partial run (--rows) would overwrite the committed"),
 ]
