@@ -40,6 +40,19 @@ class CameraRun:
     prototypes: list
 
 
+def recording_core(path, planner, steps, seed=0, use_size=True):
+    """A recognizer with the node's view limits and sensing whose episodes are recorded whole:
+    `steps` images each, no entropy stop, no hold and no `unknown` answer (the evidence of every
+    step is kept: CameraRun)."""
+    from .episode import EpisodeConfig
+    from .node_params import RecognizerParameters
+    from .recognizer import ActiveRecognizer
+
+    node = RecognizerParameters()
+    sensing = replace(node.sensing, use_size=use_size, unknown_threshold=0.0, hold_unknown=False)
+    return ActiveRecognizer(str(path), EpisodeConfig(steps, 0.0), seed, planner, sensing, node.limits)
+
+
 def shown_size(ds, i):
     """The size (metres) item i of ds is shown at: its own, else 1 m, kept within SIZES."""
     return min(max(ds.size(int(i)) or 1.0, SIZES[0]), SIZES[1])

@@ -64,6 +64,14 @@ def save(path, payload):
         torch.save({"format": FORMAT, **payload}, f)
 
 
+def update(path, out=None, **fields):
+    """Rewrite the model checkpoint at `path` with `fields` set, to `out` (default: `path`
+    itself), atomically; everything else it holds is kept."""
+    ckpt = read(path)
+    ckpt.pop("format")
+    save(out or path, {**ckpt, **fields})
+
+
 def read(path):
     """Load a model checkpoint dict safely; CheckpointError for anything that is not ours."""
     ckpt = read_any(path)

@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from dataclasses import replace
 
 import numpy as np
 import torch
@@ -133,14 +132,9 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
     of the training episodes' states, or `rendered` (of the model's own renders) where those
     tell the val unknowns better (val AUROC after `steps` views); known and unknown: (probs,
     running scores) of the val episodes against the chosen means."""
-    from .camera_episodes import camera_runs, full_length
-    from .episode import EpisodeConfig
-    from .node_params import RecognizerParameters
-    from .recognizer import ActiveRecognizer
+    from .camera_episodes import camera_runs, full_length, recording_core
 
-    node = RecognizerParameters()  # the node's view limits; no stop, no hold: every step recorded
-    sensing = replace(node.sensing, use_size=size, unknown_threshold=0.0, hold_unknown=False)
-    core = ActiveRecognizer(str(path), EpisodeConfig(steps, 0.0), seed, planner, sensing, node.limits)
+    core = recording_core(path, planner, steps, seed, use_size=size)  # every step recorded
     runs = {}
     for group, (ds, objects), name, split in (("train", train, dataset, "train"),
                                               ("known", val, dataset, "val"), ("unknown", unknown, "unknowns", "val")):
@@ -160,9 +154,7 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
 def store(path, entry, out=None):
     """Write the checkpoint at `path` with `entry` as its open_set to `out` (default: `path`
     itself), atomically; the result loads as any checkpoint (checkpoint.read checks it)."""
-    ckpt = checkpoint.read(path)
-    ckpt.pop("format")
-    checkpoint.save(out or path, {**ckpt, "open_set": entry})
+    checkpoint.update(path, out, open_set=entry)
     checkpoint.load_model(out or path)  # refuse now what the recognizer would refuse
 
 

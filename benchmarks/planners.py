@@ -42,12 +42,8 @@ CHECKPOINTS = {d: {"learned": f, "reinforce": f.replace(".pt", "_reinforce.pt"),
 
 def ship(path, s):
     """Record in a shipped model the planner 'auto' stands for, and the fixed path."""
-    ckpt = checkpoint.read(path)
-    ckpt["default_planner"] = s["default_planner"]
-    if "fixed_path" in s:
-        ckpt["fixed_path"] = s["fixed_path"]
-    ckpt.pop("format")
-    checkpoint.save(path, ckpt)
+    checkpoint.update(path, default_planner=s["default_planner"],
+                      **({"fixed_path": s["fixed_path"]} if "fixed_path" in s else {}))
     print(f"{path}: default planner {s['default_planner']}")
 
 
@@ -149,7 +145,8 @@ def run(ap, args):
         if args.dataset == "modelnet":  # the node's model, for a robot's camera: its default is chosen
             # through one on val (validation_camera.py --ship); the renders' scores stay in val_acc_3
             recorded = checkpoint.read(model).get("default_planner")
-            chosen, chosen_by = (recorded, "validation_camera.json") if recorded else (chosen, None)
+            if recorded:
+                chosen, chosen_by = recorded, "validation_camera.json"
     else:  # the held-out styles: the default the test run chose, as the shipped model records it
         chosen, val_acc = checkpoint.read(model).get("default_planner"), None
     results = evaluate(cfg)

@@ -28,20 +28,17 @@ active_recognition.open_set_fit --camera realsense).
 """
 import argparse
 import json
-from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint, open_set
-from active_recognition.camera_episodes import camera_runs
+from active_recognition.camera_episodes import camera_runs, recording_core
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
-from active_recognition.episode import EpisodeConfig
 from active_recognition.evaluate import EvalConfig
-from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
-from active_recognition.recognizer import ActiveRecognizer, NODE_PLANNERS
+from active_recognition.recognizer import NODE_PLANNERS
 from active_recognition.report import write_json
 from active_recognition.simulated_camera import PRESETS
 
@@ -73,15 +70,13 @@ def end_scores(runs, t):
     """{score: (N,)} of runs after t views: the running means the recognizer keeps."""
     return {"prototype_mean": np.array([running_end(r.prototypes, t) for r in runs]),
             "energy_mean": np.array([running_end(r.energies, t) for r in runs]),
-            "msp_mean": np.array([running_end([1 - np.max(p) for p in r.probs], t) for r in runs])}
+            "msp_mean": np.array([running_end(open_set.msp(r.probs) if r.probs else [], t) for r in runs])}
 
 
 def planner_runs(path, planner, groups, preset, starts, seed):
     """{known: [runs of each start], unknown: runs} of one planner (a core of its own, seeded 0);
     groups: ((dataset, name, root, count), (dataset, name, count))."""
-    node = RecognizerParameters()
-    sensing = replace(node.sensing, unknown_threshold=0.0, hold_unknown=False)
-    core = ActiveRecognizer(str(path), EpisodeConfig(STEPS, 0.0), 0, planner, sensing, node.limits)
+    core = recording_core(path, planner, STEPS)
     (known, kname, root, nk), (unknown, uname, nu) = groups
     runs = {"known": [camera_runs(core, known, kname, "val", np.arange(nk), preset, seed + s, root, record=True)
                       for s in range(starts)]}
@@ -114,16 +109,14 @@ def rule(rows, right):
     standard error of the best's, the one whose prototype_mean tells the val unknowns best after
     10 views (the node's score). -> (planner, the planners tied with the best)."""
     best = max(rows, key=lambda p: rows[p]["mean"])
-    tied = [p for p in rows if p == best or (lambda d: d[0] <= d[1])(paired(right, best, p))]
+    lead = {p: paired(right, best, p) for p in rows if p != best}  # (best's lead, its s.e.)
+    tied = [p for p in rows if p == best or lead[p][0] <= lead[p][1]]
     return max(tied, key=lambda p: rows[p]["auroc"]["prototype_mean"][-1]), tied
 
 
 def ship(path, chosen, summary):
     """Record `chosen` as the default planner of the model at `path` and of its test summary."""
-    ckpt = checkpoint.read(path)
-    ckpt["default_planner"] = chosen
-    ckpt.pop("format")
-    checkpoint.save(path, ckpt)
+    checkpoint.update(path, default_planner=chosen)
     if summary.is_file():
         write_json(summary, {**json.loads(summary.read_text()), "default_planner": chosen,
                              "default_chosen_by": "validation_camera.json"})

@@ -3,6 +3,7 @@
 
 """Atomic writes (files.py): a writer that fails leaves the old file and no temporary file."""
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -99,3 +100,19 @@ def test_the_packages_writers_keep_the_old_file_when_they_fail_mid_write(tmp_pat
             write_metrics(path, [{"epoch": 1, "loss": 0.4}, {"epoch": 2, "loss": Unprintable()}])
     assert path.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
+def test_a_checkpoint_updated_keeps_all_else_and_writes_where_asked(tmp_path):
+    """checkpoint.update: the fields given replace theirs, every other key and tensor is kept, and
+    with `out` the source is left as it was."""
+    src, dst = tmp_path / "a.pt", tmp_path / "b.pt"
+    src.write_bytes(Path(checkpoint.shipped("procedural")).read_bytes())
+    checkpoint.update(src, dst, default_planner="random", fixed_path=[[0.1, 0.2]])
+    before, after = checkpoint.read(src), checkpoint.read(dst)
+    assert before["default_planner"] != "random" and before.get("fixed_path") != [[0.1, 0.2]]
+    assert after["default_planner"] == "random" and after["fixed_path"] == [[0.1, 0.2]]
+    assert set(after) == set(before)
+    assert all(torch.equal(v, after["model"][k]) for k, v in before["model"].items())
+    assert all(after[k] == before[k] for k in set(before) - {"model", "default_planner", "fixed_path"})
+    checkpoint.update(src, default_planner="straight")
+    assert checkpoint.read(src)["default_planner"] == "straight"
