@@ -194,6 +194,30 @@ def test_steep_dropout_drops_what_a_drivers_flying_pixel_filter_drops():
     assert 0.3 < lost.mean() / torch.as_tensor(dropped).flatten(1).any(1).float().mean() < 0.7
 
 
+def test_steep_dropout_looks_only_at_the_chosen_images_and_gives_what_all_of_them_would():
+    """The chosen images alone are filtered: the same pixels as filtering every image and keeping
+    the chosen ones, from the same draws (torch's generator and numpy's)."""
+    from active_recognition.augment import uniform
+    config = CameraConfig(64, 64, radius=1.5)
+    m = trimesh.creation.box(extents=(0.8, 0.5, 0.3))
+    m.vertices[:, 2] += 0.1 * m.vertices[:, 0]
+    cam = DepthCamera(np.asarray(m.vertices), np.asarray(m.faces), config)
+    views = np.random.default_rng(3).uniform([0.3, -3.0], [2.8, 3.0], (40, 2))
+    depth = torch.from_numpy(cam.render(views)).float()
+    aug = Augment(steep=0.4, view_camera=config)
+    for draws in (lambda: {"generator": torch.Generator().manual_seed(5)},
+                  lambda: {"rng": np.random.default_rng(5)}):
+        out = aug.steep_removed(depth, **draws())
+        again = draws()
+        chosen = uniform((len(depth), 1, 1), **again) < aug.steep
+        angle = torch.deg2rad(70 + 15 * uniform((len(depth), 1, 1), **again))
+        every = torch.where(chosen, aug.steep_pixels(depth, angle), depth)
+        assert torch.equal(out, every)
+        assert 0 < chosen.sum() < len(depth) and not torch.equal(out, depth)
+    none = Augment(steep=1e-9, view_camera=config).steep_removed(depth, generator=torch.Generator().manual_seed(0))
+    assert torch.equal(none, depth)
+
+
 def test_bad_augmentation_is_refused_by_name():
     with pytest.raises(ValueError, match="frame_error"):
         TrainConfig(frame_error=0.7)
