@@ -173,10 +173,8 @@ class Augment:
         chosen = uniform((n, 1, 1), generator, rng) < self.steep
         angle = torch.deg2rad(70 + 15 * uniform((n, 1, 1), generator, rng))
         at = torch.nonzero(chosen.flatten()).flatten()
-        if len(at) == 0:
-            return flat
-        out = flat.clone()
-        out[at.to(flat.device)] = self.steep_pixels(flat[at.to(flat.device)], angle[at])
+        out, on = flat.clone(), at.to(flat.device)
+        out[on] = self.steep_pixels(flat[on], angle[at])
         return out
 
     def steep_pixels(self, flat, angle):
