@@ -11,7 +11,8 @@ of a seeded sample of the training split less val; their means are the prototype
 episode is evaluate.rollout's, run by the recognizer's planner (--planner auto: the checkpoint's
 default), reading each object's size as the recognizer does by default (use_size): the known
 objects' from their files, the generated unknowns' as built, in metres (--no-size: the images
-alone).
+alone). Views come from the whole sphere, the paper's setting, unless --min-elevation bars those
+below it (0: a camera over the floor the object stands on, as the node's default limits).
 
 Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of unknown objects
 accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
@@ -37,6 +38,7 @@ from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import EvalConfig, checkpoint_split, sample_episodes
 from active_recognition.open_set_fit import episodes, node_planner
 from active_recognition.options import add_flags
+from active_recognition.reach import ViewLimits
 from active_recognition.report import write_json
 from active_recognition.validation import InputError
 
@@ -111,7 +113,8 @@ def by_kind(run, score, thresholds):
 def run(args):
     path = checkpoint.model_path(args.checkpoint, args.dataset)
     cfg = EvalConfig(checkpoint=str(path), dataset=args.dataset, root=args.root, split="test",
-                     steps=args.steps, seed=args.seed, size=args.size, shared=False)
+                     steps=args.steps, seed=args.seed, size=args.size, shared=False,
+                     limits=ViewLimits(args.min_elevation))
     model, classes, test, _ = checkpoint_split(str(path), cfg)
     parts = open_splits(args.dataset, args.root, ("train", "val"), default_cache_dir())
     train, val = (Shapes(parts[s], test.camera) for s in ("train", "val"))
@@ -140,6 +143,7 @@ def run(args):
     chosen = max(val_auroc, key=lambda s: val_auroc[s][-1])  # on validation, at the episode's end
     ro = runs["known_test"][0]
     record = {"dataset": args.dataset, "checkpoint": path.name, "planner": planner, "size": args.size,
+              "min_elevation": args.min_elevation,
               "objects": {name: len(r[0].objects) for name, r in runs.items()} | {"fit": fit_n},
               "known_rate": args.known_rate, "shrink": args.shrink, "auroc": auroc, "fpr95": fpr,
               "val_auroc": val_auroc, "chosen": chosen,
@@ -197,7 +201,8 @@ def print_tables(record, steps):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "objects", "seed", "steps", "size"], dataset={
+    flags = ["dataset", "root", "checkpoint", "objects", "seed", "steps", "size", "min_elevation"]
+    add_flags(ap, EvalConfig, flags, dataset={
         "choices": ("procedural", "modelnet"), "default": "modelnet", "help": "the known objects' dataset"},
         objects={"help": "seeded sample of each of the four splits' objects (0: all)"})
     ap.add_argument("--planner", default="auto", help=(
@@ -219,7 +224,8 @@ def main(argv=None):
     if not 0 <= args.shrink <= 1:
         ap.error(f"--shrink must lie in [0, 1], got {args.shrink}")
     partial = [f for f, on in (("--objects", args.objects), ("--fit-objects", args.fit_objects != FIT_OBJECTS),
-                               ("--seed", args.seed), ("--steps", args.steps != 10)) if on]
+                               ("--seed", args.seed), ("--steps", args.steps != 10),
+                               ("--min-elevation", args.min_elevation != -90.0)) if on]
     args.out = output(ap, args.out, str(results_dir(args.dataset) / "open_set.json"), partial)
     with one_line_errors(ap):  # a bad root or model file: one line, not a traceback
         run(args)

@@ -141,6 +141,12 @@ def recipe(args):
     result["matmul_gflops"] = peak / 1e9
     for stage in ("pretrain", "joint"):
         result[f"{stage}_flop_rate_vs_matmul"] = result[f"{stage}_network_gflops"] * 1e9 / peak
+        # the recipe's epochs of this stage at the measured step, and its network's work alone
+        # at the matmul rate: what no faster kernel can go below without fewer FLOPs
+        batches = getattr(cfg, f"{stage}_epochs") * result["batches_per_epoch"]
+        result[f"{stage}_minutes"] = batches * result[f"{stage}_step_s"] / 60
+        result[f"{stage}_network_minutes_at_matmul"] = (
+            batches * result[f"{stage}_network_gflop_per_step"] * 1e9 / peak / 60)
     result.update(torch_threads=torch.get_num_threads(), device=args.device,
                   load_before=load, load_after=os.getloadavg()[0])
     emit(result)

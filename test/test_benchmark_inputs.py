@@ -41,6 +41,8 @@ BAD_INPUT = [
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("open_set.py", ["--root", "{tmp}", "--objects", "5"], "a partial run (--objects) would overwrite the committed"),
     ("open_set.py", ["--root", "{tmp}", "--known-rate", "1.5", "--out", "{tmp}/o"], "--known-rate must lie in (0, 1]"),
+    ("open_set.py", ["--root", "{tmp}", "--min-elevation", "0"],
+     "a partial run (--min-elevation) would overwrite the committed"),
     ("open_set_camera.py", ["--root", "{tmp}/nope", "--out", "{tmp}/o"],
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("open_set_camera.py", ["--root", "{tmp}", "--objects", "5"],

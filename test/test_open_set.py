@@ -146,6 +146,26 @@ def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
         assert last["known_rejected"][s]["3"] in {0, 0.25, 0.5, 0.75, 1.0}
 
 
+def test_the_benchmark_keeps_its_episodes_in_the_elevation_band_asked(tmp_path, monkeypatch):
+    """--min-elevation reaches every episode the benchmark runs (the fit's first): none from
+    below the band, as a camera over a floor; the whole sphere by default."""
+    from conftest import load_benchmark
+
+    bench = load_benchmark("open_set")
+    seen = []
+
+    def stop(planner, model, shapes, objects, cfg, fixed_path):
+        seen.append(cfg.limits.min_elevation)
+        raise KeyboardInterrupt  # the episodes themselves are evaluate's, tested there
+
+    monkeypatch.setattr(bench, "episodes", stop)
+    for flags, band in (([], -90.0), (["--min-elevation", "0"], 0.0)):
+        with pytest.raises(KeyboardInterrupt):
+            bench.main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
+                        "--out", str(tmp_path / "o.json"), *flags])
+        assert seen[-1] == band
+
+
 def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
     """sensing.unknown_energy: the same episode ends recognized at 0 (never unknown) and unknown
     with a threshold below its mean energy; the label and probability stay in the result."""
@@ -392,3 +412,34 @@ def test_step_thresholds_run_on_past_their_last_step():
     np.testing.assert_array_equal(step_thresholds(0.3, 3), [0.3, 0.3, 0.3])
     np.testing.assert_array_equal(step_thresholds([0.5, 0.4], 4), [0.5, 0.4, 0.4, 0.4])
     np.testing.assert_array_equal(step_thresholds(np.array([0.5, 0.4, 0.3]), 2), [0.5, 0.4])
+
+
+def test_camera_band_splits_the_gap_into_parts_that_add_up(tmp_path, capsys):
+    """benchmarks/camera_band.py on three made-up records: the band's and the camera's points
+    add up to the whole gap, each the difference of its two records; a band file run on the
+    whole sphere is refused by name."""
+    import json
+
+    from conftest import load_benchmark
+
+    bench = load_benchmark("camera_band")
+
+    def stored(acc, elevation=-90.0, key="stored"):
+        return {"min_elevation": elevation, "objects": {"known_test": 7},
+                key: {"known_accuracy": dict(zip(("3", "6", "9", "end"), acc))}}
+
+    files = {"sphere": stored((0.9, 0.92, 0.93, 0.93)), "band": stored((0.88, 0.9, 0.905, 0.9), 0.0),
+             "camera": stored((0.87, 0.875, 0.9, 0.9), key="cut") | {"objects": 5}}
+    for name, rec in files.items():
+        (tmp_path / f"{name}.json").write_text(json.dumps(rec))
+    flags = [f"--{n}={tmp_path / n}.json" for n in files]
+    bench.main([*flags, "--out", str(tmp_path / "o.json")])
+    lost = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert lost["band"] == {"3": 2.0, "6": 2.0, "9": 2.5} and lost["camera"] == {"3": 1.0, "6": 2.5, "9": 0.5}
+    for v in ("3", "6", "9"):
+        assert lost["band"][v] + lost["camera"][v] == pytest.approx(lost["total"][v])
+    assert json.loads((tmp_path / "o.json").read_text())["objects"] == {"sphere": 7, "band": 7, "camera": 5}
+    (tmp_path / "band.json").write_text(json.dumps(stored((0.88, 0.9, 0.905, 0.9))))
+    with pytest.raises(SystemExit):
+        bench.main([*flags, "--out", ""])
+    assert "not run with --min-elevation 0" in capsys.readouterr().err
