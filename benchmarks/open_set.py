@@ -225,7 +225,7 @@ def main(argv=None):
         ap.error(f"--shrink must lie in [0, 1], got {args.shrink}")
     partial = [f for f, on in (("--objects", args.objects), ("--fit-objects", args.fit_objects != FIT_OBJECTS),
                                ("--seed", args.seed), ("--steps", args.steps != 10),
-                               ("--min-elevation", args.min_elevation != -90.0)) if on]
+                               ("--min-elevation", args.min_elevation != ViewLimits().min_elevation)) if on]
     args.out = output(ap, args.out, str(results_dir(args.dataset) / "open_set.json"), partial)
     with one_line_errors(ap):  # a bad root or model file: one line, not a traceback
         run(args)
