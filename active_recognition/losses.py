@@ -64,9 +64,10 @@ class JointLoss(nn.Module):
         self.revisit, self.corrupt, self.random_views = revisit, corrupt, random_views
         self.limits = limits
 
-    def forward(self, cameras, views, labels):
+    def forward(self, cameras, views, labels, limits=None):
+        """The batch's (loss, accuracy); `limits`: its episodes' view limits, if not the loss's."""
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     random_views=self.random_views, reach=reach_of(self.limits))
+                     random_views=self.random_views, reach=reach_of(limits or self.limits))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         loss = steps_loss(out, labels, self.weights)
         if self.revisit:
@@ -111,10 +112,10 @@ class ReinforceLoss(nn.Module):
         self.entropy_weight, self.momentum = entropy_weight, momentum
         self.register_buffer("baseline", torch.zeros(()))
 
-    def forward(self, cameras, views, labels):
+    def forward(self, cameras, views, labels, limits=None):
         ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      exploration_std=self.std, explore_through=self.rule is not None,
-                     reach=reach_of(self.limits))
+                     reach=reach_of(limits or self.limits))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         ce = steps_loss(out, labels, self.weights)
         correct = (out[-1].logits.argmax(1) == labels).float()
@@ -162,23 +163,28 @@ class ImitationLoss(nn.Module, Planner):
         clean = clean.reshape(len(cameras), len(self.candidates), *clean.shape[1:])
         return clean, self.corrupt(torch.from_numpy(clean), rng=rng)
 
-    def forward(self, cameras, views, labels, clean=None, seen=None, outliers=None):
-        model, k = self.model, len(self.candidates)
+    def forward(self, cameras, views, labels, clean=None, seen=None, outliers=None, limits=None):
+        model, k, limits = self.model, len(self.candidates), limits or self.limits
         if clean is None:
             clean, seen = self.candidate_depth(cameras)
+        # the teacher reads the candidates within reach: those outside are never its choice
+        inside = None if limits is None or limits.whole_sphere else torch.as_tensor(
+            limits.allows(self.candidates)).nonzero()[:, 0]
         with torch.no_grad():
-            depth = seen.flatten(0, 1).to(labels.device)
+            depth = (seen if inside is None else seen[:, inside]).flatten(0, 1).to(labels.device)
             with torch.autocast(labels.device.type, self.teacher_dtype or torch.float32,
                                 enabled=self.teacher_dtype is not None):
-                feats = model.features(depth).float()
-        self.labels, self.feats, self.head_losses = labels, feats.reshape(len(cameras), k, -1), []
+                feats = model.features(depth).float().reshape(len(cameras), -1, model.config.feature_size)
+            if inside is not None:
+                feats = feats.new_zeros(len(cameras), k, feats.shape[-1]).index_copy_(1, inside.to(feats.device), feats)
+        self.labels, self.feats, self.head_losses = labels, feats, []
         ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
-                     planner=self, reach=reach_of(self.limits))
+                     planner=self, reach=reach_of(limits))
         known = [KnownViews(c, self.candidates, d) for c, d in zip(cameras, clean)]
         out = run(ep, known, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         if outliers is not None:  # after the known episode, which stays what it is without
-            loss = loss + outlier_episode(model, outliers, self.candidates, self.steps, self.corrupt, self.limits)
+            loss = loss + outlier_episode(model, outliers, self.candidates, self.steps, self.corrupt, limits)
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
     def next_view(self, episode, step):

@@ -32,11 +32,14 @@ from .devices import distributed, keep_freed_memory, resolve_device, teacher_dty
 from .losses import ImitationLoss, JointLoss, LocLoss, PretrainLoss, ReinforceLoss
 from .model import RecurrentAttention, set_initial_step
 from .outliers import OutlierInputs, Outliers
+from .reach import ViewLimits
 from .render_worker import AheadProcess, RenderWorker
 from .run_metrics import evaluate_accuracy, own_planner, read_metrics, write_metrics
 from .schedule import lr_factor, set_lr
 from .train_config import STAGES, TrainConfig, preset_config  # noqa: F401 (cli, tests)
 from .validation import InputError, output_dir
+
+BAND_STREAM = 7907  # the last key of band_share's draws: apart from the batch's and its outliers' (7919)
 
 
 def batches(n, batch, seed, stage, epoch, rank, world):
@@ -89,6 +92,7 @@ class Inputs(NamedTuple):
     views: list | None   # pre-training: (k, 2) views per camera
     depth: np.ndarray | tuple | None  # pre-training's images, or imitation's candidates (clean, seen)
     outliers: OutlierInputs | None = None  # the batch's unknown objects (cfg.outliers)
+    limits: ViewLimits | None = None  # where the batch's episodes may look (Trainer.batch_limits)
 
 
 class Trainer:
@@ -115,6 +119,8 @@ class Trainer:
         self.augment = cfg.augment(camera)
         self.limits = cfg.limits
         self.starts = self.limits.initial_views(50)  # the paper's 50 initial views, in the band
+        self.band = replace(self.limits, min_elevation=max(0.0, self.limits.min_elevation))  # band_share's
+        self.band_starts = self.band.initial_views(50)
         self.corrupt = self.augment.images if self.augment.changes_images else None
         self.outliers = (Outliers(camera, self.augment, self.limits, cfg.outliers, cfg.outlier_batch,
                                   cfg.views_per_shape) if cfg.outliers else None)
@@ -265,16 +271,27 @@ class Trainer:
         cams = self.shapes.cameras(idx, self.augment, rng)
         return key, rng, seed, cams
 
-    def outlier_inputs(self, key, stage):
+    def batch_limits(self, key, stage):
+        """Where the episodes of the batch keyed `key` may look: in the joint stage, at band_share's
+        chance, the band above the object's centre (elevation >= 0, the recognizer's default), else
+        the run's limits. Its own generator: every other draw is the batch's without it."""
+        share = self.cfg.band_share if stage == "joint" else 0.0
+        return self.band if share and np.random.default_rng([*key, BAND_STREAM]).random() < share else self.limits
+
+    def starts_within(self, limits):
+        return self.band_starts if limits is self.band else self.starts
+
+    def outlier_inputs(self, key, stage, limits):
         # the outliers' own generator: the known batch draws from rng as it does without them
-        return None if self.outliers is None else self.outliers.inputs(key, stage, self.starts)
+        return None if self.outliers is None else self.outliers.inputs(key, stage, self.starts_within(limits))
 
     def remade(self, stage, epoch, b, idx, made):
         """Batch b's inputs from the part a render worker made (render_worker.py): its
         cameras drawn again here, from the same seed, and its outliers."""
         key, _, _, cams = self.draws(stage, epoch, b, idx)
         rng, seed, views, depth = made
-        return Inputs(rng, seed, cams, views, depth, self.outlier_inputs(key, stage))
+        limits = self.batch_limits(key, stage)
+        return Inputs(rng, seed, cams, views, depth, self.outlier_inputs(key, stage, limits), limits)
 
     def inputs(self, stage, epoch, b, idx, net) -> Inputs:
         """What batch b (shapes idx) sees that the network does not change: its generator, the
@@ -283,12 +300,13 @@ class Trainer:
         draws from torch's generator), and the batch's outliers."""
         key, rng, seed, cams = self.draws(stage, epoch, b, idx)
         loss = getattr(net, "module", net)  # under DDP, the loss it wraps
-        odd = self.outlier_inputs(key, stage)
+        limits = self.batch_limits(key, stage)
+        odd = self.outlier_inputs(key, stage, limits)
         if stage == "joint":
             return Inputs(rng, seed, cams, None, loss.candidate_depth(cams, rng)
-                          if hasattr(loss, "candidate_depth") else None, odd)
+                          if hasattr(loss, "candidate_depth") else None, odd, limits)
         views = [self.limits.random_views(rng, self.cfg.views_per_shape) for _ in cams]
-        return Inputs(rng, seed, cams, views, depth_layer.render_batch(cams, views), odd)
+        return Inputs(rng, seed, cams, views, depth_layer.render_batch(cams, views), odd, limits)
 
     def loc_round(self, stage, epoch, epochs, net, opt):
         """Stage loc's epoch, a DAgger round: episodes on this rank's training shapes, then
@@ -311,7 +329,11 @@ class Trainer:
         y = torch.as_tensor(self.shapes.labels[idx], device=self.device)
         odd = {} if inputs.outliers is None else {"outliers": inputs.outliers}
         if stage == "joint":
-            starts = self.starts[inputs.rng.integers(0, len(self.starts), len(idx))]
+            limits = inputs.limits or self.limits
+            if limits is not self.limits:  # the losses keep to the run's limits unless told
+                odd["limits"] = limits
+            starts = self.starts_within(limits)
+            starts = starts[inputs.rng.integers(0, len(starts), len(idx))]
             known = () if inputs.depth is None else inputs.depth  # imitation's (clean, seen)
             return net(inputs.cameras, starts, y, *known, **odd)
         k = self.cfg.views_per_shape

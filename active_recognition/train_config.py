@@ -57,6 +57,10 @@ class TrainConfig:
     outlier_batch: int = option(8, lo=1, hi=100_000, help="--outliers: unknown objects per batch")
     # every training view keeps inside the views a robot can take
     limits: ViewLimits = nested(ViewLimits, flat=True)
+    band_share: float = option(0.0, lo=0, hi=1, help=(
+        "joint stage: the share of batches whose episodes keep to the band above the object's "
+        "centre (elevation 0 and up, the recognizer's default: an object on a floor), the rest "
+        "within min_elevation's; for a model good on the whole sphere and in the band"))
     pretrain_epochs: int = option(6, lo=0, hi=MAX_EPOCHS, help="stage 1 epochs")
     joint_epochs: int = option(6, lo=0, hi=MAX_EPOCHS, help="stage 2 epochs")
     loc_epochs: int = option(0, lo=0, hi=MAX_EPOCHS, help=(
@@ -138,6 +142,9 @@ class TrainConfig:
         if self.outliers and self.joint_epochs and self.policy != "imitation":
             raise InputError(f"outliers: the joint stage's outlier episodes are imitation's (random "
                              f"candidate views), not policy {self.policy}'s: use policy imitation or outliers 0")
+        if self.band_share and self.limits.min_elevation >= 0:
+            raise InputError(f"band_share: min_elevation {self.limits.min_elevation:g} keeps every "
+                             f"view above the object's centre already: leave band_share at 0")
         if self.initial_step is not None:  # refuse it now, not after pre-training
             initial_step_bias(self.initial_step, self.model.max_step)
         if self.stage == "loc" and not self.resume:
