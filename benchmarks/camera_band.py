@@ -62,6 +62,14 @@ def main(argv=None):
         if records["band"].get("min_elevation") != 0.0:
             raise InputError(f"--band {args.band}: not run with --min-elevation 0 "
                              f"(min_elevation {records['band'].get('min_elevation')!r})")
+        if records["sphere"].get("min_elevation", -90.0) != -90.0:  # open_set.py before the key: the sphere
+            raise InputError(f"--sphere {args.sphere}: not a whole-sphere run "
+                             f"(min_elevation {records['sphere']['min_elevation']!r})")
+        for key in ("checkpoint", "planner"):  # the same model and planner, or the split means nothing
+            seen = {name: r.get(key) for name, r in records.items()}
+            if len(set(seen.values())) > 1:
+                raise InputError(f"the three records are of different {key}s: "
+                                 + ", ".join(f"--{name} {value!r}" for name, value in seen.items()))
         acc = {k: known_accuracy(r, getattr(args, k)) for k, r in records.items()}
         record = {"checkpoint": records["camera"].get("checkpoint"), "known_accuracy": acc,
                   "objects": {"sphere": records["sphere"]["objects"]["known_test"],

@@ -9,8 +9,8 @@ it: every val object shot through a simulated camera and the recognizer's own pa
 are never read.
 
 Prints, per planner, the accuracy after 3, 6 and 9 views (the closed-set answer) and its mean,
-the paired difference of that mean from the checkpoint's default planner when it runs (the
-committed run's was learned) with its standard error, and the AUROC of prototype_mean,
+the paired difference of that mean from the checkpoint's default planner (or --reference's),
+which runs beside them (the committed run's was learned), with its standard error, and the AUROC of prototype_mean,
 energy_mean and msp_mean after 1, 3, 6 and 10 views.
 `rule` names the default the validation split supports: of the planners whose mean is within
 one paired standard error of the best's, the one whose prototype_mean (the node's `unknown`
@@ -127,13 +127,15 @@ def ship(path, chosen, summary):
 def run(ap, args):
     if args.starts < 1 or args.objects < 0:
         ap.error("--starts must be at least 1 and --objects at least 0")
-    bad = sorted(set(args.planners) - set(CHOICES))
-    if bad:
-        ap.error(f"--planners: {', '.join(bad)} not among the node's planners {', '.join(CHOICES)}")
+    for flag, asked in (("--planners", args.planners), ("--reference", [args.reference] if args.reference else [])):
+        bad = sorted(set(asked) - set(CHOICES))
+        if bad:
+            ap.error(f"{flag}: {', '.join(bad)} not among the node's planners {', '.join(CHOICES)}")
     partial = [flag for flag, on in (("--objects", args.objects), ("--starts", args.starts != STARTS),
                                      ("--seed", args.seed != SEED), ("--checkpoint", args.checkpoint),
                                      ("--camera", args.camera != "realsense"),
-                                     ("--planners", set(args.planners) != set(PLANNERS))) if on]
+                                     ("--planners", set(args.planners) != set(PLANNERS)),
+                                     ("--reference", args.reference)) if on]
     if args.ship and partial:
         ap.error(f"--ship records what the whole benchmark chose for the shipped model; leave out "
                  f"{', '.join(partial)}")
@@ -145,7 +147,7 @@ def run(ap, args):
     model, _, ckpt = checkpoint.load_model(path)
     if model.open_set is None:
         ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
-    default = ckpt.get("default_planner") or "learned"
+    default = args.reference or ckpt.get("default_planner") or "learned"
     val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]
     unknown = open_dataset("unknowns", split="val", cache_dir=default_cache_dir())
     nk, nu = (min(args.objects, len(d)) if args.objects else len(d) for d in (val, unknown))
@@ -179,6 +181,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     add_flags(ap, EvalConfig, ["root", "checkpoint"], root={"required": True})
     ap.add_argument("--planners", nargs="+", default=list(PLANNERS), help="planners beside the default")
+    ap.add_argument("--reference", default=None, help="the planner the others are paired against, run "
+                    "beside them (default: the checkpoint's default_planner, learned where it names none; "
+                    "--reference imitation --planners imitation runs imitation alone)")
     ap.add_argument("--starts", type=int, default=STARTS, help=f"seeded starts per val object (default {STARTS})")
     ap.add_argument("--seed", type=int, default=SEED, help=f"first start's seed (default {SEED})")
     ap.add_argument("--objects", type=int, default=0, help="the first N val objects of each group (0: all)")

@@ -4,6 +4,8 @@
 """The open-set scores and measures against independent reimplementations: Mahalanobis against
 numpy on a toy Gaussian, AUROC against a brute-force pair count, FPR@95 on a hand-made case, and
 the recorder against a plain rollout."""
+import re
+
 import numpy as np
 import pytest
 import torch
@@ -425,8 +427,8 @@ def test_camera_band_splits_the_gap_into_parts_that_add_up(tmp_path, capsys):
     bench = load_benchmark("camera_band")
 
     def stored(acc, elevation=-90.0, key="stored"):
-        return {"min_elevation": elevation, "objects": {"known_test": 7},
-                key: {"known_accuracy": dict(zip(("3", "6", "9", "end"), acc))}}
+        return {"min_elevation": elevation, "objects": {"known_test": 7}, "checkpoint": "m.pt",
+                "planner": "imitation", key: {"known_accuracy": dict(zip(("3", "6", "9", "end"), acc))}}
 
     files = {"sphere": stored((0.9, 0.92, 0.93, 0.93)), "band": stored((0.88, 0.9, 0.905, 0.9), 0.0),
              "camera": stored((0.87, 0.875, 0.9, 0.9), key="cut") | {"objects": 5}}
@@ -439,7 +441,13 @@ def test_camera_band_splits_the_gap_into_parts_that_add_up(tmp_path, capsys):
     for v in ("3", "6", "9"):
         assert lost["band"][v] + lost["camera"][v] == pytest.approx(lost["total"][v])
     assert json.loads((tmp_path / "o.json").read_text())["objects"] == {"sphere": 7, "band": 7, "camera": 5}
-    (tmp_path / "band.json").write_text(json.dumps(stored((0.88, 0.9, 0.905, 0.9))))
-    with pytest.raises(SystemExit):
-        bench.main([*flags, "--out", ""])
-    assert "not run with --min-elevation 0" in capsys.readouterr().err
+    wrong = {"band": (stored((0.88, 0.9, 0.905, 0.9)), "--band .* not run with --min-elevation 0"),
+             "sphere": (stored((0.9, 0.92, 0.93, 0.93), 0.0), "--sphere .* not a whole-sphere run"),
+             "camera": (files["camera"] | {"checkpoint": "other.pt"},
+                        "different checkpoints: --sphere 'm.pt', --band 'm.pt', --camera 'other.pt'")}
+    for name, (rec, message) in wrong.items():
+        (tmp_path / f"{name}.json").write_text(json.dumps(rec))
+        with pytest.raises(SystemExit):
+            bench.main([*flags, "--out", ""])
+        assert re.search(message, capsys.readouterr().err), name
+        (tmp_path / f"{name}.json").write_text(json.dumps(files[name]))
