@@ -140,8 +140,9 @@ class ImitationLoss(nn.Module, Planner):
     """
 
     def __init__(self, model, steps, weighting="uniform", mix=0.5, corrupt=None, limits=None,
-                 distill=0.0, random_views=0.0, teacher_dtype=None):
+                 distill=0.0, random_views=0.0, teacher_dtype=None, teacher_share=1.0):
         super().__init__()
+        self.teacher_share = teacher_share  # the share of the candidates in reach the teacher ranks
         self.teacher_dtype = teacher_dtype  # devices.teacher_dtype: None (float32) or bfloat16
         self.distill = distill  # weight of FC_loc's loss toward the teacher's view
         self.random_views = random_views  # chance a step goes to a random unvisited candidate
@@ -170,6 +171,9 @@ class ImitationLoss(nn.Module, Planner):
         # the teacher reads the candidates within reach: those outside are never its choice
         inside = None if limits is None or limits.whole_sphere else torch.as_tensor(
             limits.allows(self.candidates)).nonzero()[:, 0]
+        inside = self.teacher_set(inside if inside is not None else torch.arange(k)) \
+            if self.teacher_share < 1 else inside
+        self.unranked = None if inside is None else torch.ones(k, dtype=torch.bool).index_fill_(0, inside, False)
         with torch.no_grad():
             depth = (seen if inside is None else seen[:, inside]).flatten(0, 1).to(labels.device)
             with torch.autocast(labels.device.type, self.teacher_dtype or torch.float32,
@@ -187,14 +191,23 @@ class ImitationLoss(nn.Module, Planner):
             loss = loss + outlier_episode(model, outliers, self.candidates, self.steps, self.corrupt, limits)
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
+    def teacher_set(self, pool):
+        """The candidates (indices, sorted) the teacher ranks this batch: a random teacher_share
+        of `pool` (those within reach), from torch's generator, never fewer than steps + 1."""
+        n = min(len(pool), max(self.steps + 1, round(self.teacher_share * len(pool))))
+        return pool[torch.randperm(len(pool))[:n]].sort().values
+
     def next_view(self, episode, step):
         """The planner of the training episode: oracle target, FC_view loss, DAgger choice."""
         # visited, or out of reach: never a target, nor FC_view's choice
         visited = unavailable(episode, self.candidates)
-        target = self.oracle_targets(self.feats, episode.hidden, self.labels, visited)
+        # and those the teacher did not rank: never a target, nor in FC_view's loss
+        unranked = visited if self.unranked is None else visited | self.unranked.numpy()[None]
+        target = self.oracle_targets(self.feats, episode.hidden, self.labels, unranked)
         scores = self.model.score_views(episode.hidden)
         masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
-        self.head_losses.append(nn.functional.cross_entropy(masked, target))
+        ranked = scores.masked_fill(torch.as_tensor(unranked, device=scores.device), float("-inf"))
+        self.head_losses.append(nn.functional.cross_entropy(ranked, target))
         if self.distill:  # the paper's head learns the teacher's move as a continuous increment
             goal = torch.as_tensor(self.candidates, dtype=torch.float32, device=target.device)[target]
             self.head_losses.append(self.distill * nn.functional.mse_loss(

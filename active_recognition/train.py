@@ -78,7 +78,8 @@ def joint_loss(cfg: TrainConfig, model, corrupt):
                              reduction=cfg.gradient_reduction, corrupt=corrupt, limits=limits)
     if cfg.policy == "imitation":
         return ImitationLoss(model, cfg.steps, cfg.step_weighting, cfg.imitation_mix, corrupt, limits,
-                             cfg.distill_loc, cfg.random_views, teacher_dtype(cfg.teacher_precision, cfg.device))
+                             cfg.distill_loc, cfg.random_views, teacher_dtype(cfg.teacher_precision, cfg.device),
+                             cfg.teacher_share)
     return JointLoss(model, cfg.steps, cfg.view_gradient, cfg.gradient_reduction,
                      cfg.step_weighting, cfg.revisit_penalty, corrupt, cfg.random_views, limits)
 

@@ -107,6 +107,10 @@ class TrainConfig:
         "imitation: the precision of the teacher's pass over the 50 candidate views (no gradient "
         "flows there, it only ranks them): auto is bfloat16 where the hardware runs it fast "
         "(AVX-512 CPUs, GPUs), float32 elsewhere"))
+    teacher_share: float = option(1.0, lo=0, lo_open=True, hi=1, help=(
+        "imitation: the share of the candidates within reach the teacher ranks, a random set "
+        "drawn per batch (never fewer than steps + 1): FC_view learns the best of them, for that "
+        "share of the teacher's encoder work; 1 = every candidate"))
     max_shapes: int = option(0, lo=0, help=(
         "train on a seeded subset of this many shapes, each class in it (0: all)"))
     yaw: bool = option(False, help=AUGMENT + (
@@ -142,6 +146,9 @@ class TrainConfig:
         if self.outliers and self.joint_epochs and self.policy != "imitation":
             raise InputError(f"outliers: the joint stage's outlier episodes are imitation's (random "
                              f"candidate views), not policy {self.policy}'s: use policy imitation or outliers 0")
+        if self.teacher_share < 1 and self.policy != "imitation":
+            raise InputError(f"teacher_share: only imitation has a teacher, not policy {self.policy}: "
+                             f"leave teacher_share at 1")
         if self.band_share and self.limits.min_elevation >= 0:
             raise InputError(f"band_share: min_elevation {self.limits.min_elevation:g} keeps every "
                              f"view above the object's centre already: leave band_share at 0")
