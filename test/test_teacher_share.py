@@ -92,3 +92,17 @@ def test_teacher_share_is_checked():
         TrainConfig(teacher_share=1.5)
     with pytest.raises(InputError, match=r"teacher_share: only imitation has a teacher, not policy reinforce"):
         TrainConfig(teacher_share=0.5, policy="reinforce")
+
+
+def test_fc_views_loss_covers_only_the_ranked_candidates(monkeypatch):
+    model, cams, loss, clean, seen = setup(0.5)
+    logits, original = [], torch.nn.functional.cross_entropy
+    monkeypatch.setattr(torch.nn.functional, "cross_entropy",
+                        lambda x, y, *a, **k: logits.append((x.detach(), y)) or original(x, y, *a, **k))
+    torch.manual_seed(7)
+    loss(cams, TOP.initial_views(50)[:3], LABELS, clean, seen)
+    heads = [(x, y) for x, y in logits if x.shape[1] == 20]  # FC_view's, over the candidates
+    assert len(heads) == 3  # one a step
+    for x, target in heads:
+        assert torch.isinf(x[:, loss.unranked]).all()
+        assert torch.isfinite(x.gather(1, target[:, None])).all()
