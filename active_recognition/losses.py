@@ -171,8 +171,8 @@ class ImitationLoss(nn.Module, Planner):
         # the teacher reads the candidates within reach: those outside are never its choice
         inside = None if limits is None or limits.whole_sphere else torch.as_tensor(
             limits.allows(self.candidates)).nonzero()[:, 0]
-        inside = self.teacher_set(inside if inside is not None else torch.arange(k)) \
-            if self.teacher_share < 1 else inside
+        if self.teacher_share < 1:
+            inside = self.teacher_set(torch.arange(k) if inside is None else inside)
         self.unranked = None if inside is None else torch.ones(k, dtype=torch.bool).index_fill_(0, inside, False)
         with torch.no_grad():
             depth = (seen if inside is None else seen[:, inside]).flatten(0, 1).to(labels.device)
@@ -206,7 +206,8 @@ class ImitationLoss(nn.Module, Planner):
         target = self.oracle_targets(self.feats, episode.hidden, self.labels, unranked)
         scores = self.model.score_views(episode.hidden)
         masked = scores.masked_fill(torch.as_tensor(visited, device=scores.device), float("-inf"))
-        ranked = scores.masked_fill(torch.as_tensor(unranked, device=scores.device), float("-inf"))
+        ranked = masked if self.unranked is None else scores.masked_fill(
+            torch.as_tensor(unranked, device=scores.device), float("-inf"))
         self.head_losses.append(nn.functional.cross_entropy(ranked, target))
         if self.distill:  # the paper's head learns the teacher's move as a continuous increment
             goal = torch.as_tensor(self.candidates, dtype=torch.float32, device=target.device)[target]
