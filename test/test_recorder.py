@@ -25,7 +25,7 @@ from rclpy.serialization import serialize_message  # noqa: E402
 import msg_adapters as ma  # noqa: E402
 from active_recognition.nodes.demo import run_demo  # noqa: E402
 from active_recognition.nodes.recognizer_outputs import recorded_topics  # noqa: E402
-from active_recognition.nodes.recorder import TOPICS, check_path, type_name, vision_topics  # noqa: E402
+from active_recognition.nodes.recorder import Recorder, TOPICS, check_path, type_name, vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 
 
@@ -123,6 +123,14 @@ def test_a_recorded_demo_holds_every_message_the_loop_published(tmp_path, monkey
         return publish(self, msg)
 
     monkeypatch.setattr(Publisher, "publish", counting)
+    write = Recorder.on_message
+
+    def slow(self, topic, channel, data):  # the last episode's end reaches the file late
+        if topic.startswith("/recognition/result"):
+            time.sleep(0.1)
+        return write(self, topic, channel, data)
+
+    monkeypatch.setattr(Recorder, "on_message", slow)
     path = tmp_path / "run.mcap"
     summary = run_demo(objects=2, seed=1, out=lambda line: None, record=str(path))
     assert summary["answered"] == 2

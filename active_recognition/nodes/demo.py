@@ -155,6 +155,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             out(f"object {n + 1}/{len(order)}: true={truth:<12} predicted={result['label']:<12} "
                 f"p={result['probability']:.2f} views={result['views']:<2} time={ms:.0f} ms "
                 f"{'ok' if ok else 'WRONG'}")
+        if recorder is not None:  # the last episode's end may still be on its way to the file
+            spin_until(executor, lambda: recorder.quiet(0.25), 3.0)
         summary = {"objects": len(rows), "planner": recognizer.core.planner,
                    "camera": f"{camera.sim.sensor.width}x{camera.sim.sensor.height}",
                    "answered": sum(r[1] > 0 for r in rows),

@@ -96,6 +96,7 @@ class Recorder:
             raise InputError("record: needs the mcap package (pip install mcap, or rosdep install "
                              "with rosdep/active_recognition.yaml)") from None
         self.node, self.lock, self.counts = node, threading.Lock(), Counter()
+        self.last = time.monotonic()  # when a message last arrived (quiet() reads it)
         self.output = ExitStack()  # the file under its temporary name until close()
         self.writer = Writer(self.output.enter_context(atomic_write(self.path, "wb")))
         self.writer.start(profile="ros2", library="active_recognition recorder")
@@ -126,6 +127,12 @@ class Recorder:
             self.writer.add_message(channel_id=channel, log_time=now, data=data,
                                     publish_time=now, sequence=self.counts[topic])
             self.counts[topic] += 1
+            self.last = time.monotonic()
+
+    def quiet(self, seconds):
+        """Whether nothing has arrived for `seconds`: what was published before has been written
+        (a demo spins until this before it closes the file, so the last episode's end is in it)."""
+        return time.monotonic() - self.last >= seconds
 
     def close(self):
         """Finish the file and move it into place; returns its path."""
