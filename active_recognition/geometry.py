@@ -76,6 +76,18 @@ def optical_rotation(theta, phi):
     return np.stack([right, -up, fwd], -1)
 
 
+def upright_optical_rotation(theta, phi):
+    """(..., 3, 3) optical rotation of view (theta, phi) with the image upright in the object
+    frame: optical_rotation turned 180 degrees about the optical axis, so the optical y axis
+    (image down) has z = -sin(theta) < 0 and x is level. What a robot is asked for: the model's
+    own camera (optical_rotation) sees a level view upside down, and an arm following it would
+    roll its wrist half a turn. At the poles, where "up" leaves the image, the roll is this
+    formula's limit along the meridian phi: from straight above (theta = 0) image down points
+    along +(cos phi, sin phi, 0), from straight below (theta = pi) along -(cos phi, sin phi, 0).
+    Any roll reads the same (reprojection.py works from the pose the camera reports)."""
+    return optical_rotation(theta, phi) * np.array([-1.0, -1.0, 1.0])
+
+
 def matrix_to_quaternion(m):
     """Rotation matrix (3, 3) -> quaternion (x, y, z, w), ROS order, w >= 0."""
     m = np.asarray(m, dtype=np.float64)

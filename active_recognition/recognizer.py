@@ -176,9 +176,11 @@ class ActiveRecognizer:
         return self.radius * self.sensing.object_size
 
     def requested_pose(self, k=None):
-        """(position (3,) metres, optical rotation (3, 3)) of the view asked for next."""
+        """(position (3,) metres, optical rotation (3, 3)) of the view asked for next: upright
+        (geometry.upright_optical_rotation: image down toward -z), as an arm holds a camera."""
         return (geometry.camera_position(*self.view, self.standoff(k))
-                + self.centre * self.sensing.object_size, geometry.optical_rotation(*self.view))
+                + self.centre * self.sensing.object_size,
+                geometry.upright_optical_rotation(*self.view))
 
     @property
     def view(self):
