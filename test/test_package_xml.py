@@ -15,6 +15,7 @@ from catkin_pkg.package import parse_package
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "test" / "data" / "rosdep"
+INTERFACES = ROOT / "interfaces" / "active_recognition_interfaces"
 # setup.py's install_requires -> the rosdep key that installs it
 KEYS = {"numpy": "python3-numpy", "torch": "python3-torch-pip", "trimesh": "python3-trimesh-pip",
         "embreex": "python3-embreex-pip", "tqdm": "python3-tqdm",
@@ -57,8 +58,11 @@ def test_package_xml_is_valid_and_matches_setup_py():
 
 
 def test_every_key_resolves_on_jazzy(rosdep):
-    keys = rosdep("keys", "--from-paths", str(ROOT)).stdout.split()
-    assert "rclpy" in keys and "python3-torch-pip" in keys
+    # the paths of docs/ros.md's rosdep line: the interface package is a key of package.xml that
+    # rosdep finds only where its folder is named too (nothing crawls inside a package)
+    keys = rosdep("keys", "--from-paths", str(ROOT), str(INTERFACES), "--ignore-src").stdout.split()
+    assert "rclpy" in keys and "python3-torch-pip" in keys and "action_msgs" in keys
+    assert "active_recognition_interfaces" not in keys
     resolved = rosdep("resolve", *keys, "--os=ubuntu:noble", "--rosdistro=jazzy")
     assert resolved.returncode == 0, resolved.stderr
     # each key gives "#ROSDEP[key]", "#installer", then the packages
@@ -74,6 +78,26 @@ def test_every_key_resolves_on_jazzy(rosdep):
     assert rules["vision_msgs"] == ("apt", "ros-jazzy-vision-msgs")
     assert rules["diagnostic_msgs"] == ("apt", "ros-jazzy-diagnostic-msgs")
     assert rules["lifecycle_msgs"] == ("apt", "ros-jazzy-lifecycle-msgs")
+    assert rules["rosidl_default_generators"] == ("apt", "ros-jazzy-rosidl-default-generators")
+
+
+def test_without_its_folder_named_the_interface_package_is_an_unresolved_key(rosdep):
+    # without its folder named, it is a key like any other, and no rule has it
+    keys = rosdep("keys", "--from-paths", str(ROOT), "--ignore-src").stdout.split()
+    assert "active_recognition_interfaces" in keys
+    resolved = rosdep("resolve", "active_recognition_interfaces", "--os=ubuntu:noble", "--rosdistro=jazzy")
+    assert resolved.returncode != 0
+
+
+def test_the_interface_package_xml_is_valid():
+    package = parse_package(str(INTERFACES / "package.xml"))
+    package.validate()
+    root = parse_package(str(ROOT / "package.xml"))
+    assert [str(lic) for lic in package.licenses] == [str(lic) for lic in root.licenses]
+    assert [(m.name, m.email) for m in package.maintainers] == [(m.name, m.email) for m in root.maintainers]
+    assert {d.name for d in package.build_depends} >= {"action_msgs", "geometry_msgs", "vision_msgs"}
+    assert "rosidl_interface_packages" in [g.name for g in package.member_of_groups]
+    assert package.get_build_type() == "ament_cmake"
 
 
 def test_a_key_rosdep_does_not_know_is_reported(rosdep):

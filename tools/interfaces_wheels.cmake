@@ -12,8 +12,8 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 
-# Loaded into interfaces/vision_msgs by tools/build_vision_msgs.sh (CMAKE_PROJECT_INCLUDE), for a
-# build against the PyPI ROS wheels only. Their exported CMake targets
+# Loaded into each package of interfaces/ by tools/build_interfaces.sh (CMAKE_PROJECT_INCLUDE), for
+# a build against the PyPI ROS wheels only. Their exported CMake targets
 # (<pkg>__rosidl_generator_py) name the include folders of the Python the wheels were built
 # with (/opt/python/cp311-cp311/...), which exist on no user's machine, and CMake refuses an
 # imported target with a missing include folder. At the end of the configure step, every
