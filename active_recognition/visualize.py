@@ -54,18 +54,53 @@ def depth_grid(images, path, titles=None, columns=None, row_labels=None):
     plt.close(fig)
 
 
+DEPTH_LABEL = "z-depth (m), the object 1 m across"
+
+
 def render_mesh(mesh, out, views=0, theta=1.047, phi=0.524, size=64, radius=1.0, fov=None):
     """Depth images of a mesh file as a PNG grid: `views` evenly spread views, or the one view
-    (theta, phi). -> (number of views, share of pixels that hit the mesh)."""
+    (theta, phi), each upright (image down toward -z, as geometry.upright_optical_rotation
+    holds a camera), coloured by z-depth in metres beside one colour bar; the mesh is scaled into
+    [-0.5, 0.5]^3, so a metre is its longest edge. -> (number of views, share of pixels that
+    hit the mesh)."""
     from . import geometry
     from .depth_layer import CameraConfig, DepthCamera
     from .meshes import load_mesh
 
-    cam = DepthCamera(*load_mesh(mesh), CameraConfig(height=size, width=size, radius=radius, fov=fov))
+    config = CameraConfig(height=size, width=size, radius=radius, fov=fov)
+    cam = DepthCamera(*load_mesh(mesh), config)
     views = geometry.fibonacci_views(views) if views else np.array([[theta, phi]])
-    depth = cam.render(views)
-    depth_grid(depth, out, titles=[f"({t:.2f}, {p:.2f})" for t, p in views])
-    return len(views), float((depth < 255).mean())
+    # the model's camera (optical_rotation) sees a level view upside down; the upright camera is
+    # it rolled half a turn about the optical axis, and with square pixels about a centred
+    # principal point that turns the image half a turn, pixel centre onto pixel centre
+    metres = np.rot90(cam.metric(views), 2, axes=(1, 2))  # (B, H, W), NaN = miss
+    metric_grid(metres, out, config.depth_range, [f"({t:.2f}, {p:.2f})" for t, p in views])
+    return len(views), float(np.isfinite(metres).mean())
+
+
+def metric_grid(metres, path, limits, titles=None, label=DEPTH_LABEL):
+    """Write depth images (N, H, W) in metres (NaN = no return, left blank) as a PNG grid, row 0
+    at the top, with one colour bar from limits[0] (near) to limits[1] (far) labelled `label`."""
+    pyplot = plt()
+    n = len(metres)
+    columns = int(np.ceil(np.sqrt(n)))
+    rows = int(np.ceil(n / columns))
+    inches = (max(1.6 * columns, 2.4) + 1.2, max(1.7 * rows, 2.6))  # the bar's room on the right
+    fig, axes = pyplot.subplots(rows, columns, figsize=inches, squeeze=False, layout="constrained")
+    cmap = pyplot.get_cmap("viridis").with_extremes(bad="white")
+    shown = None
+    for i, ax in enumerate(axes.flat):
+        ax.set_axis_off()
+        if i < n:
+            shown = ax.imshow(np.ma.masked_invalid(metres[i]), cmap=cmap, vmin=limits[0],
+                              vmax=limits[1], origin="upper", interpolation="nearest")
+            if titles is not None:
+                ax.set_title(titles[i], fontsize=7)
+    bar = fig.colorbar(shown, ax=axes.ravel().tolist(), shrink=0.9)
+    bar.set_label(label, fontsize=7)
+    bar.ax.tick_params(labelsize=7)
+    save_figure(fig, path, dpi=100)
+    pyplot.close(fig)
 
 
 def readable_views(n):
