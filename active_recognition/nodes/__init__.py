@@ -2,21 +2,51 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """Thin rclpy shells around the core (the only place rclpy is imported)."""
+import difflib
 import functools
 import sys
 import time
 import traceback
 
+from rclpy.exceptions import InvalidParameterValueException, ParameterNotDeclaredException
+
 from active_recognition.validation import InputError
+
+# parameters rclpy declares on every node itself (its TimeSource, its TypeDescriptionService) and,
+# by prefix, those it declares for a publisher or subscription made with QoSOverridingOptions
+ROS_PARAMETERS = ("use_sim_time", "start_type_description_service")
+ROS_PREFIXES = ("qos_overrides.",)
+
+
+class UnknownParameterError(ParameterNotDeclaredException):
+    """A parameter given to a node that declares none of that name. A ParameterException, which
+    run_node reports in one line like an InputError; not an InputError, which the recognizer's
+    constructor leaves to configure, where only the declared parameters are checked."""
+
+    def __init__(self, message):
+        Exception.__init__(self, message)
 
 
 def declare_parameters(node, params):
     """Declare {name: options.Param} with descriptors (description, the range where the check bounds
     a number on both sides, read-only unless it may change at run time); return their values, each
     passed through its validation.Check (InputError naming it). A value outside a range is refused
-    by rclpy before the node's own callback sees it: it is logged here, as the node logs the others."""
-    from rclpy.exceptions import InvalidParameterValueException
-
+    by rclpy before the node's own callback sees it: it is logged here, as the node logs the others.
+    First, a parameter the node was given (`-p`, a params file, parameter_overrides) that neither
+    it nor rclpy declares is refused: UnknownParameterError naming it and the closest declared
+    name, as a misspelt key would otherwise be ignored without a word."""
+    # rclpy (Jazzy) keeps every override the node was given, from the command line, its params
+    # files and its constructor, in node._parameter_overrides ({name: Parameter})
+    unknown = sorted(name for name in node._parameter_overrides if name not in params
+                     and name not in ROS_PARAMETERS and not name.startswith(ROS_PREFIXES)
+                     and not node.has_parameter(name))
+    if unknown:
+        said = []
+        for name in unknown:
+            close = difflib.get_close_matches(name, [*params, *ROS_PARAMETERS], n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            said.append(f"unknown parameter {name!r}{hint}")
+        raise UnknownParameterError("; ".join(said))
     for name, param in params.items():
         try:
             node.declare_parameter(name, param.default, descriptor(param))
