@@ -60,15 +60,27 @@ def cmd_train(args):
     finish_distributed()
 
 
-def cmd_demo(args):
+def need_rclpy(what):
     import importlib.util
     if importlib.util.find_spec("rclpy") is None:
-        raise InputError("the demo needs ROS 2's rclpy: install with pip install '.[ros]' "
+        raise InputError(f"{what} needs ROS 2's rclpy: install with pip install '.[ros]' "
                          "or source a ROS 2 install")
+
+
+def cmd_demo(args):
+    need_rclpy("the demo")
     from .nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
              planner=args.planner, dataset=args.dataset, camera=args.camera,
              record=args.record or "")
+
+
+def cmd_recognize(args):
+    need_rclpy("recognize")
+    from .nodes.recognize_client import run_goal
+    result = run_goal(args.action, args.object_frame, args.object_size, args.max_views,
+                      args.timeout)
+    return 0 if result is not None and result.status in ("recognized", "unknown") else 1
 
 
 def cmd_evaluate(args):
@@ -105,6 +117,9 @@ def add_commands(sub):
     add_flags(p, co.EvaluateRuns)
     add_flags(sub.add_parser("demo", help="closed loop over ROS topics: recognizer + simulated camera"),
               co.DemoOptions).set_defaults(func=cmd_demo)
+    add_flags(sub.add_parser("recognize", help=(
+        "send one goal to a running recognizer: feedback per image, the result; Ctrl-C cancels")),
+        co.RecognizeOptions).set_defaults(func=cmd_recognize)
 
 
 def build_parser():

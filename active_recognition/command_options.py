@@ -1,7 +1,7 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""The options of the small subcommands (render, dataset, demo), from which cli.py's flags are
+"""The options of the small subcommands (render, dataset, demo, recognize), from which cli.py's flags are
 generated; train and evaluate take TrainConfig's and EvalConfig's."""
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import math
 from dataclasses import dataclass
 
 from .datasets import NAMES
+from .episode import MAX_VIEWS
 from .recognizer import NODE_PLANNERS
 from .validation import SEED_MAX, option
 
@@ -64,6 +65,17 @@ class DemoOptions:
         "pose error)"))
     record: str | None = option(None, kind=str, optional=True, metavar="FILE.mcap", help=(
         "record every topic of the loop to this MCAP file (ros2 bag play, Foxglove)"))
+
+
+@dataclass
+class RecognizeOptions:
+    action: str = option("/recognize", length=(1, None), help="the recognizer's action")
+    object_frame: str = option("", help="the object's frame (empty: the node's frame_id)")
+    object_size: float = option(0.0, lo=0, hi=100, help=(
+        "metres, the longest edge of the object's box (0: the node's object_size)"))
+    max_views: int = option(0, lo=0, hi=MAX_VIEWS, help="views at most (0: the node's max_views)")
+    timeout: float = option(10.0, lo=0.1, hi=86400, help=(
+        "seconds to wait for the action server to appear"))
 
 
 @dataclass

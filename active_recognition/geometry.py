@@ -255,3 +255,12 @@ def rotation_from_optical(optical):
     (columns up, -right, -forward) that maps the t = 0 camera frame to world."""
     o = np.asarray(optical, dtype=np.float64)
     return np.stack([-o[:, 1], -o[:, 0], -o[:, 2]], -1)
+
+
+def travel(views):
+    """Radians a camera turns about the object's centre along views (N, 2) (theta, phi), each
+    move along the great circle: the sum of the angles between successive views."""
+    p = camera_position(*np.asarray(views, dtype=np.float64).reshape(-1, 2).T)
+    cos = np.sum(p[1:] * p[:-1], axis=-1)
+    # atan2 of |a x b| and a . b: exact for small angles, where arccos of a near-1 cosine is not
+    return float(np.sum(np.arctan2(np.linalg.norm(np.cross(p[1:], p[:-1]), axis=-1), cos)))

@@ -21,6 +21,7 @@ from .simulated_camera import SensorConfig
 from .validation import SEED_MAX, nested, option, validate
 
 QOS_MODES = ("auto", "reliable", "sensor_data")
+GOAL_POLICIES = ("reject", "preempt")
 CAMERA_QOS = ("sensor_data", "reliable")
 
 
@@ -63,6 +64,9 @@ class NodeConfig:
     episode_timeout: float = option(60.0, lo=0.1, hi=86400, runtime=True, help=(
         "seconds: an episode still under way this long after its ~/reset ends with status "
         "timeout and the best guess so far (60 s: each of 10 views taking both its tries of 3 s)"))
+    goal_policy: str = option("reject", choices=GOAL_POLICIES, help=(
+        "a recognize goal that comes while another runs: reject (the running one goes on) or "
+        "preempt (the running one ends canceled, its goal aborted); ~/reset always preempts"))
     autostart: bool = option(True, help=(
         "configure and activate at start, as a plain node does; false: a lifecycle manager "
         "drives it (configure, activate)"))

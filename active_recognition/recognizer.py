@@ -116,8 +116,8 @@ class Observation:
 
     def result(self):
         """The JSON-able result of an episode that has ended (recognition/result)."""
-        found = self.status in ("recognized", "unknown") or (self.status in ("no_image", "timeout")
-                                                             and self.probs is not None)
+        found = self.status in ("recognized", "unknown") or \
+            (self.status in ("no_image", "timeout", "canceled") and self.probs is not None)
         return {"status": self.status, "label": self.label if found else "",
                 "probability": float(self.probs.max()) if found else 0.0,
                 "entropy": self.entropy if found else None, "views": self.views}

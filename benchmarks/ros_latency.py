@@ -90,7 +90,7 @@ def stream(seconds, hz):
 
         def tick():
             nonlocal published
-            if rec.core.done and not client.reset_pending:
+            if not rec.loop.running and not client.reset_pending:
                 client.reset_pending = True
                 client.reset.call_async(rec_reset_request()).add_done_callback(
                     lambda f: setattr(client, "reset_pending", False))
@@ -104,12 +104,13 @@ def stream(seconds, hz):
             if len(rss) < int(time.monotonic() - start):
                 rss.append(rss_mb())
         spin_until(ex, lambda: False, 0.5)  # let the last images arrive
-        lost = published - rec.received
-        could_process = rec.received - rec.idle - rec.stale - rec.rejected
-        return {"stream_published": published, "stream_received": rec.received,
-                "stream_processed": rec.processed, "stream_lost_in_transport": lost,
-                "stream_unprocessed": could_process - rec.processed,
-                "stream_idle_between_objects": rec.idle, "stream_stale": rec.stale,
+        n = rec.loop.counts
+        lost = published - n["received"]
+        could_process = n["received"] - n["idle"] - n["stale"] - n["rejected"]
+        return {"stream_published": published, "stream_received": n["received"],
+                "stream_processed": n["classified"], "stream_lost_in_transport": lost,
+                "stream_unprocessed": could_process - n["classified"],
+                "stream_idle_between_objects": n["idle"], "stream_stale": n["stale"],
                 "rss_mb_at_10s": rss[9] if len(rss) > 9 else rss[-1], "rss_mb_at_end": rss[-1],
                 "rss_growth_mb": rss[-1] - (rss[9] if len(rss) > 9 else rss[0])}
 
@@ -160,14 +161,15 @@ def vga_stream(seconds, hz):
         client.reset_pending = False
         while driver.poll() is None:
             ex.spin_once(timeout_sec=0.01)
-            if rec.core.done and not client.reset_pending:
+            if not rec.loop.running and not client.reset_pending:
                 client.reset_pending = True
                 client.reset.call_async(rec_reset_request()).add_done_callback(
                     lambda f: setattr(client, "reset_pending", False))
         spin_until(ex, lambda: False, 0.5)  # let the last images arrive
         sent = json.loads(driver.stdout.read().strip().splitlines()[-1])["published"]
-        return {"vga_stream_published": sent, "vga_stream_received": rec.received,
-                "vga_stream_processed": rec.processed,
+        n = rec.loop.counts
+        return {"vga_stream_published": sent, "vga_stream_received": n["received"],
+                "vga_stream_processed": n["classified"],
                 "vga_stream_step_ms_p50": float(np.median(rec.step_ms)) if rec.step_ms else None}
 
 

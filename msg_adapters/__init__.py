@@ -7,8 +7,8 @@ vision_msgs is optional (HAVE_VISION_MSGS, VISION_MSGS_MISSING: see msg_adapters
 """
 from .convert import (AdapterError, camera_info, camera_info_to_intrinsics, image_to_metres,
                       metres_to_image, pose_to_camera, pose_to_view, position_to_pose,
-                      probabilities_from_msg, probabilities_to_msg, stamp_seconds, view_markers,
-                      view_to_pose)
+                      probabilities_from_msg, probabilities_to_msg, seconds_to_stamp, stamp_seconds,
+                      view_markers, view_to_pose)
 from .diagnostics import (LEVELS, diagnostic_array, diagnostic_status, level_name,
                           status_values)
 from .vision import (HAVE_VISION_MSGS, UNLABELED, VISION_MSGS_MISSING, classification,
@@ -17,7 +17,7 @@ from .vision import (HAVE_VISION_MSGS, UNLABELED, VISION_MSGS_MISSING, classific
 
 __all__ = ["AdapterError", "camera_info", "camera_info_to_intrinsics", "image_to_metres",
            "metres_to_image", "pose_to_camera", "pose_to_view", "position_to_pose",
-           "probabilities_from_msg", "probabilities_to_msg", "stamp_seconds", "view_markers",
+           "probabilities_from_msg", "probabilities_to_msg", "seconds_to_stamp", "stamp_seconds", "view_markers",
            "view_to_pose",
            "diagnostic_array", "diagnostic_status", "LEVELS", "level_name", "status_values",
            "classification", "classification_scores", "HAVE_VISION_MSGS", "label_info",

@@ -121,6 +121,14 @@ def stamp_seconds(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+def seconds_to_stamp(seconds: float):
+    """Seconds (>= 0) -> builtin_interfaces/Time, to the nearest nanosecond."""
+    from builtin_interfaces.msg import Time
+
+    sec, nanosec = divmod(round(seconds * 1e9), 1_000_000_000)
+    return Time(sec=int(sec), nanosec=int(nanosec))
+
+
 def view_to_pose(theta, phi, radius=1.0, frame_id="object", stamp=None) -> PoseStamped:
     """A view on the sphere -> the camera's optical-frame pose in the object frame."""
     return position_to_pose(geometry.camera_position(float(theta), float(phi), radius),

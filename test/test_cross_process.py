@@ -85,21 +85,21 @@ def test_a_reliable_camera_with_a_floor_that_leaves_a_fifth_of_requests_unanswer
     assert {r["status"] for r in results} <= {"recognized", "no_image"}
     assert sum(r["status"] == "recognized" for r in results) >= 2
     assert recognizer.inputs[2].reliability == "reliable"  # auto followed the publisher
-    assert recognizer.resent >= 2 and recognizer.unreachable >= 1  # sent again, given up
+    assert recognizer.loop.counts["resent"] >= 2 and recognizer.loop.counts["unreachable"] >= 1  # sent again, given up
     z = np.array([v.pose.position.z for v in views])
     assert z.min() > -0.5  # nothing asked from below the floor (the object's base, z = -0.5 m)
-    assert recognizer.rejected == 0
+    assert recognizer.loop.counts["rejected"] == 0
 
 
 def test_a_best_effort_camera_with_the_shipped_profile_delivers_640x480(cameras):
     results, views, recognizer = episodes("best_effort", 2)
     assert [r and r["status"] for r in results] == ["recognized", "recognized"]
     assert recognizer.inputs[2].reliability == "best_effort"
-    assert recognizer.resent <= 1  # frames arrive; at most discovery's first request is lost
+    assert recognizer.loop.counts["resent"] <= 1  # frames arrive; at most discovery's first request is lost
     assert results[0]["label"] == "bathtub"  # procedural/test[7]
 
 
 def test_an_empty_scene_in_another_process_ends_with_no_object(cameras):
     results, views, recognizer = episodes("empty", 1, max_empty_views=2)
     assert results[0] is not None and results[0]["status"] == "no_object", results
-    assert recognizer.empty == 1 and len(views) >= 2
+    assert recognizer.loop.counts["empty"] == 1 and len(views) >= 2

@@ -74,6 +74,7 @@ def stamped(msg, recognizer, offset=0.0):
 
 def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
     executor, recognizer, client, pubs = node
+    recognizer.loop.start(recognizer.now())  # an episode in progress: a refused input must not touch it
     image = ma.metres_to_image(np.full((480, 640), 0.8, np.float32))
     bad = [  # (message, key of the refusal, what the warning must name)
         (info(64, 64, 60.0, 60.0, 320.0, 240.0), "depth/camera_info", "k[2] (cx)"),  # the crash
@@ -96,18 +97,17 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
         (stamped(ma.metres_to_image(np.full((48, 64), 0.8, np.float32)), recognizer),
          "depth/image", "image is 64x48 but the camera_info is for 640x480"),
     ]
-    recognizer.core.reset()  # an episode in progress: a refused input must not touch it
     before = recognizer.core.view
     for msg, key, field in bad:
         if field.startswith("image is 64x48"):  # a good CameraInfo first, for the mismatch
             pubs[CameraInfo].publish(info(640, 480, 385.0, 385.0, 319.5, 239.5))
-            assert spin_until(executor, lambda: recognizer.intrinsics is not None, 5)
+            assert spin_until(executor, lambda: recognizer.loop.k is not None, 5)
         counts = dict(recognizer.refuse.counts)
         pubs[type(msg)].publish(msg)
         assert spin_until(executor, lambda: recognizer.refuse.counts.get(key, 0) >
                           counts.get(key, 0), 5), (key, field)
         assert field in recognizer.refuse.latest[key], recognizer.refuse.latest[key]
-    assert not recognizer.poses  # no bad pose reached the node's state
+    assert not recognizer.loop.poses  # no bad pose reached the node's state
     assert recognizer.core.episode.steps == 0 and recognizer.core.view == before
     for name, value, why in [("object_size", 1e300, "object_size must be a finite number in"),
                              ("standoff", -1.0, "standoff must be"),
@@ -122,7 +122,7 @@ def test_bad_inputs_are_refused_by_name_and_the_next_object_is_recognized(node):
         assert not result.successful and ours in result.reason, (name, result.reason)
         if why != "read-only":  # each in the log: one refusal hides no other
             assert why in recognizer.refuse.latest[f"parameter {name}"], name
-    assert recognizer.sensing.object_size == 1.0 and recognizer.view_timeout == 0.5
+    assert recognizer.sensing.object_size == 1.0 and recognizer.loop.timing.view_timeout == 0.5
     result = recognize(executor, client)  # the simulated camera's good inputs from here on
     assert result is not None and result["status"] == "recognized", result
     assert result["label"] == "bathtub"  # procedural/test[0]
@@ -141,7 +141,7 @@ def test_no_exception_escapes_a_callback(node):
     recognizer.core.observe = broken
     result = recognize(executor, client)
     assert result is not None and result["status"] == "recognized"
-    assert recognizer.callback_errors == 1 and recognizer.resent >= 1
+    assert recognizer.callback_errors == 1 and recognizer.loop.counts["resent"] >= 1
     recognizer.core.reset = lambda **kw: 1 / 0  # ~/reset itself fails: it answers so
     future = client.reset.call_async(Trigger.Request())
     assert spin_until(executor, future.done, 5) and not future.result().success
@@ -158,15 +158,17 @@ def test_a_silent_camera_ends_the_episode_with_no_image():
             executor.add_node(n)
         assert spin_until(executor, client.reset.service_is_ready, 10)
         result = recognize(executor, client, timeout=5)
-        assert result == {"status": "no_image", "label": "", "probability": 0.0,
-                          "entropy": None, "views": 0}
+        assert {k: v for k, v in result.items() if k != "elapsed"} == {
+            "status": "no_image", "label": "", "probability": 0.0, "entropy": None, "views": 0,
+            "travel": 0.0}
+        assert 4 * 0.2 <= result["elapsed"] < 5
         assert spin_until(executor, lambda: len(views) == 4, 1)  # 2 views x (1 try + 1 retry)
         positions = np.array([[v.pose.position.x, v.pose.position.y, v.pose.position.z]
                               for v in views])
         np.testing.assert_allclose(positions[0], positions[1])  # sent again ...
         np.testing.assert_allclose(positions[2], positions[3])
         assert np.linalg.norm(positions[0] - positions[2]) > 0.1  # ... then another view
-        assert recognizer.resent == 2 and recognizer.unreachable == 2
+        assert recognizer.loop.counts["resent"] == 2 and recognizer.loop.counts["unreachable"] == 2
 
 
 def test_with_the_defaults_a_silent_camera_ends_an_episode_within_15_s():

@@ -88,7 +88,7 @@ def test_malformed_images_are_rejected_and_the_node_keeps_answering(loop):
     executor.add_node(bad)
     pub = bad.create_publisher(Image, "depth/image", qos_profile_sensor_data)
     assert spin_until(executor, lambda: pub.get_subscription_count() > 0, 10)
-    recognizer.core.reset()
+    recognizer.loop.start(recognizer.now())  # an episode under way, its request not sent
     good = ma.metres_to_image(np.full((128, 128), 0.8, np.float32),
                               recognizer.get_clock().now().to_msg())
     bads = []
@@ -102,7 +102,7 @@ def test_malformed_images_are_rejected_and_the_node_keeps_answering(loop):
     for msg in bads:
         pub.publish(msg)
         spin_until(executor, lambda: False, 0.05)
-    assert spin_until(executor, lambda: recognizer.rejected == len(bads), 5)
+    assert spin_until(executor, lambda: recognizer.loop.counts["rejected"] == len(bads), 5)
     assert recognizer.core.episode.steps == 0
     pub.publish(good)  # another resolution (no CameraInfo: the model's field of view) works too
     assert spin_until(executor, lambda: recognizer.core.episode.steps == 1, 5)
@@ -234,8 +234,10 @@ def test_an_empty_scene_ends_with_no_object_after_max_empty_views():
         assert spin_until(executor, client.reset.service_is_ready, 10)
         result = recognize(executor, client)
         assert result == {"status": "no_object", "label": "", "probability": 0.0,
-                          "entropy": None, "views": 0}
-        assert recognizer.empty == 2 and camera.sent == 3  # asked again twice, then gave up
+                          "entropy": None, "views": 0, "travel": 0.0,
+                          "elapsed": pytest.approx(result["elapsed"])}
+        assert 0 < result["elapsed"] < 10
+        assert recognizer.loop.counts["empty"] == 2 and camera.sent == 3  # asked again twice, then gave up
 
 
 def test_a_pose_that_arrives_late_but_within_the_tolerance_is_used():
@@ -357,7 +359,7 @@ def test_bad_parameters_at_run_time_are_refused_and_the_node_keeps_its_settings(
         else:  # outside its descriptor's range: rclpy refuses it, the node logs why in the check's words
             assert not result.successful and "out of range" in result.reason, result.reason
             assert reason in recognizer.refuse.latest[f"parameter {name}"]
-    assert recognizer.sensing == before and recognizer.pose_tolerance == 0.05
+    assert recognizer.sensing == before and recognizer.loop.timing.pose_tolerance == 0.05
     assert recognizer.set_parameters([Parameter("object_size", value=2.0)])[0].successful
     assert recognizer.sensing.object_size == 2.0
     assert recognize(executor, client) is not None  # and it still recognises
@@ -426,11 +428,11 @@ def test_an_episode_paused_by_deactivate_goes_on_at_activate(loop):
     assert recognizer.on_reset(Trigger.Request(), Trigger.Response()).success  # first view asked
     recognizer.trigger_deactivate()  # before the camera's answer can arrive
     spin_until(executor, lambda: False, 0.5)
-    assert recognizer.received == 0 and recognizer.core.episode.steps == 0 and not results
-    assert recognizer.episode_start is not None and recognizer.waiting_since is None
+    assert recognizer.loop.counts["received"] == 0 and recognizer.core.episode.steps == 0 and not results
+    assert recognizer.loop.state == "paused" and recognizer.loop.running
     recognizer.trigger_activate()  # asks for the view again
     assert spin_until(executor, lambda: bool(results), 10)
-    assert json.loads(results[0])["status"] == "recognized" and recognizer.received > 0
+    assert json.loads(results[0])["status"] == "recognized" and recognizer.loop.counts["received"] > 0
 
 
 def test_a_nodes_own_words_are_those_outside_ros_args():

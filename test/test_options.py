@@ -21,6 +21,7 @@ from active_recognition.validation import check_mapping, group
 
 COMMANDS = build_parser()._subparsers._group_actions[0].choices
 OPTIONS = {"render": co.RenderOptions, "dataset": co.DatasetOptions, "demo": co.DemoOptions,
+           "recognize": co.RecognizeOptions,
            "evaluate": EvalConfig, "train": TrainConfig}
 
 

@@ -91,6 +91,7 @@ def test_an_unknown_end_leads_with_unlabeled_and_keeps_the_best_guess():
 def test_an_unknown_status_ends_unlabeled_with_the_best_known_class():
     """The recognizer's end for status unknown (sensing.unknown_energy): the JSON result keeps the
     best class and its probability, the Classification leads with UNLABELED."""
+    from active_recognition.controller import End
     from active_recognition.nodes.recognizer_outputs import Outputs
     from active_recognition.recognizer import Observation
 
@@ -107,9 +108,10 @@ def test_an_unknown_status_ends_unlabeled_with_the_best_known_class():
     out.classes, out.vision = ["a", "b"], True
     out.pubs = {name: Publisher(name) for name in ("result", "recognition/result/classification")}
     obs = Observation("unknown", np.array([0.3, 0.7]), "b", 0.61, (0.0, 0.0), True, 4, (0.0, 0.0), 0.5)
-    out.end(obs, Header(frame_id="object"))
+    out.end(End(obs, Header(frame_id="object"), {**obs.result(), "travel": 1.5, "elapsed": 9.0}, None))
     assert json.loads(sent["result"].data) == {"status": "unknown", "label": "b",
-                                               "probability": pytest.approx(0.7), "entropy": 0.61, "views": 4}
+                                               "probability": pytest.approx(0.7), "entropy": 0.61, "views": 4,
+                                               "travel": 1.5, "elapsed": 9.0}
     msg = sent["recognition/result/classification"]
     assert [h.class_id for h in msg.results] == [ma.UNLABELED, "a", "b"] and msg.header.frame_id == "object"
 

@@ -30,7 +30,9 @@ class MultiThreadedExecutor(executors.MultiThreadedExecutor):
     upstream in #1547, newer than the Jazzy wheels): a callback task still waiting in the thread
     pool was yielded and queued again on every spin, and the spinning thread kept the GIL, so the
     pool filled with duplicates and latency grew with every message. Here a task already queued
-    is not queued again, and the spinning thread steps aside briefly so the pool can start it."""
+    is not queued again, and the spinning thread steps aside briefly so the pool can start it. A
+    coroutine task (an action's execute) that awaits yields and is queued again once its run
+    in the pool has finished."""
 
     def _spin_once_impl(self, timeout_sec=None, wait_condition=lambda: False):
         try:
@@ -38,15 +40,16 @@ class MultiThreadedExecutor(executors.MultiThreadedExecutor):
         except (executors.ExternalShutdownException, executors.ShutdownException,
                 executors.TimeoutException, executors.ConditionReachedException):
             return
-        if any(handler is queued for queued in self._futures):
+        if any(handler is queued for queued, run in self._futures if not run.done()):
             time.sleep(0.0002)  # queued, not started yet: let a pool thread take the GIL
             return
-        self._executor.submit(handler)
-        self._futures.append(handler)
-        for future in self._futures[:]:
-            if future.done():
-                self._futures.remove(future)
-                future.result()  # raise any exceptions
+        self._futures.append((handler, self._executor.submit(handler)))
+        for queued, run in self._futures[:]:
+            if run.done():
+                self._futures.remove((queued, run))
+                run.result()  # raise any exceptions
+                if queued.done():
+                    queued.result()
 
 
 @contextmanager
@@ -163,7 +166,7 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                    "accuracy": float(np.mean([r[0] for r in rows])),
                    "mean_views": float(np.mean([r[1] for r in rows])),
                    "ms_per_episode_p50": float(np.median([r[2] for r in rows])),
-                   "rejected_images": recognizer.rejected}
+                   "rejected_images": recognizer.loop.counts["rejected"]}
         out(f"planner {recognizer.core.planner}: "
             f"accuracy {summary['accuracy']:.2f} over {summary['objects']} objects, "
             f"mean views {summary['mean_views']:.1f}, "

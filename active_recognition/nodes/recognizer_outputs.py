@@ -19,12 +19,15 @@ from std_msgs.msg import Float32MultiArray, Header, String
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
+from active_recognition.controller import Timing
+from active_recognition.health import Health
 from active_recognition.nodes.recorder import RELIABLE, TOPICS, vision_topics
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
 VISION_TOPICS = ("recognition/classification", "recognition/result/classification",
                  "recognition/label_info")
 INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_tolerance")  # refusals
+IMAGE_COUNTS = ("received", "classified", "empty", "stale")
 
 
 def recorded_topics():
@@ -75,45 +78,48 @@ class Outputs:
             self.pubs["recognition/classification"].publish(
                 ma.classification(obs.probs, self.classes, header))
 
-    def end(self, obs, header):
-        """An episode's end: the JSON result (with its status) and its Classification, UNLABELED
-        first unless an object was recognised, followed by the best guess so far."""
-        self.pubs["result"].publish(String(data=json.dumps(obs.result())))
-        if not self.vision:
-            return
-        if obs.status == "recognized":
-            msg = ma.classification(obs.probs, self.classes, header)
-        elif obs.probs is not None:
-            msg = ma.unknown_classification(header, obs.probs, self.classes)
-        else:
-            msg = ma.unknown_classification(header)
-        self.pubs["recognition/result/classification"].publish(msg)
+    def end(self, end):
+        """Publish the JSON result and the Classification of an episode that ended."""
+        self.pubs["result"].publish(String(data=json.dumps(end.result)))
+        if self.vision:
+            self.pubs["recognition/result/classification"].publish(self.verdict(end))
 
-
-def end_header(node, last):
-    """The header of an episode's end: the last classified image's, else now in the object frame."""
-    return last if last is not None else Header(stamp=node.get_clock().now().to_msg(),
-                                                frame_id=node.frame_id)
+    def verdict(self, end):
+        """The Classification of an episode's end: UNLABELED first unless an object was
+        recognised, followed by the best guess so far; the last classified image's header, else
+        now in the object frame."""
+        header = end.header or Header(stamp=self.node.get_clock().now().to_msg(),
+                                      frame_id=self.node.loop.frame)
+        if end.obs.status == "recognized":
+            return ma.classification(end.obs.probs, self.classes, header)
+        if end.obs.probs is not None:
+            return ma.unknown_classification(header, end.obs.probs, self.classes)
+        return ma.unknown_classification(header)
 
 
 def diagnostics(node, now):
-    """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is monotonic seconds."""
-    level, message = node.health.level(now, node.view_timeout, node.state == "active", node.state)
-    values = {"state": node.state, "model": node.model_file or "", "model loaded": node.core is not None}
+    """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is its clock's seconds."""
+    loop, state = node.loop, node.state
+    health = loop.health if loop is not None else Health()
+    health.error = str(node.failure) if node.failure is not None else None
+    timing = loop.timing if loop is not None else Timing()
+    level, message = health.level(now, timing.view_timeout, state == "active", state)
+    values = {"state": state, "model": node.model_file or "", "model loaded": node.core is not None}
     if node.core is not None:
         values.update({"classes": len(node.core.classes), "planner": node.core.planner})
     values["image_qos"] = node.image_qos
     values.update({f"{sub.topic} reliability": sub.reliability for sub in node.inputs})
-    values.update(node.health.values(now))
-    values.update({"images received": node.received, "images classified": node.processed,
-                   "requests resent": node.resent, "views unreachable": node.unreachable,
-                   "images empty": node.empty, "images stale": node.stale})
-    counts = node.refuse.counts
-    values.update({f"refused {key}": counts.get(key, 0) for key in INPUT_KEYS})
-    values.update({f"refused {key}": n for key, n in sorted(counts.items())
+    values.update(health.values(now))
+    counts = loop.counts if loop is not None else {}
+    values.update({f"images {key}": counts.get(key, 0) for key in IMAGE_COUNTS})
+    values.update({"requests resent": counts.get("resent", 0),
+                   "views unreachable": counts.get("unreachable", 0)})
+    refused = node.refuse.counts
+    values.update({f"refused {key}": refused.get(key, 0) for key in INPUT_KEYS})
+    values.update({f"refused {key}": n for key, n in sorted(refused.items())
                    if key.startswith("parameter ")})
-    values.update({"view_timeout (s)": node.view_timeout,
-                   "episode_timeout (s)": node.episode_timeout})
+    values.update({"view_timeout (s)": timing.view_timeout,
+                   "episode_timeout (s)": timing.episode_timeout})
     name = f"{node.get_fully_qualified_name().lstrip('/')}: recognition"
     status = ma.diagnostic_status(name, level, message, values)
     return ma.diagnostic_array([status], node.get_clock().now().to_msg())

@@ -1,0 +1,354 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""The recognizer node's episode loop, without ROS: timestamped events in, commands out.
+
+The node turns each message into an event (an image, a camera_info, a pose, a tick of its
+timer, a start from ~/reset or a goal, a cancel, a pause and a resume from its lifecycle) and
+each command back into messages: ask for a view (`next_view`), publish a step (the
+classification of an image), end an episode with its status, refuse an input with its reason.
+Every time is the caller's clock in seconds (the node's ROS clock; tests a simulated one), the
+one clock of the image and pose stamps, so a test drives the whole loop without rclpy.
+
+States: idle (no episode), waiting (a view asked for), classifying (an image waits for the
+pose of its stamp), paused (the node inactive), ended (until the next start).
+A request no usable image answers within view_timeout is sent again max_retries times, then its
+view is given up for another (the episode ends no_image when none can be had); an episode
+still under way episode_timeout after its start (the pauses not counted) ends with timeout.
+"""
+from __future__ import annotations
+
+from collections import Counter, deque
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from . import plausible
+from .geometry import Intrinsics, travel
+from .health import Health
+from .validation import InputError
+
+IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
+
+
+@dataclass
+class Timing:
+    """The node parameters that time the loop (node_params.NodeConfig, runtime ones)."""
+
+    view_timeout: float = 3.0
+    max_retries: int = 1
+    pose_tolerance: float = 0.05
+    episode_timeout: float = 60.0
+    max_clock_offset: float = 5.0
+    require_fresh_images: bool = True
+
+
+@dataclass(frozen=True)
+class AskView:
+    """Publish next_view: the camera pose (metres, optical rotation) in `frame`, stamped `stamp`."""
+
+    position: np.ndarray
+    rotation: np.ndarray
+    frame: str
+    stamp: float
+    again: bool  # the same view once more (a resend, or after an empty image)
+
+
+@dataclass(frozen=True)
+class Step:
+    """Publish a classified image: its Observation, with the image's header and arrival."""
+
+    obs: Any                 # recognizer.Observation
+    header: Any              # the image's (the node's message header; opaque here)
+    arrived: float           # the caller's mark of the image's arrival (its step latency)
+    next_view: AskView | None  # the request that follows it, None when the episode ends
+    travel: float            # radians turned about the object between the views so far
+    elapsed: float           # seconds since the start, pauses not counted
+    goal: Any
+
+
+@dataclass(frozen=True)
+class End:
+    """An episode ended: publish its result (a status of recognizer.Observation, or canceled)."""
+
+    obs: Any
+    header: Any              # the last classified image's, None when none was
+    result: dict             # recognition/result's JSON fields, travel and elapsed among them
+    goal: Any                # the goal it answers (None: ~/reset)
+    replaced: bool = False   # canceled by the start of another (recognition/result stays silent)
+
+
+@dataclass(frozen=True)
+class Refuse:
+    """An input refused (counted under `key`; the node logs `reason`, throttled per key)."""
+
+    key: str
+    reason: str
+
+
+@dataclass
+class Pending:
+    """An image waiting for the camera pose of its stamp."""
+
+    stamp: float
+    metres: np.ndarray
+    k: Intrinsics | None
+    since: float   # when the wait began (a newer image keeps it)
+    arrived: float
+    header: Any
+
+
+class Controller:
+    """One object at a time on `core` (recognizer.ActiveRecognizer)."""
+
+    def __init__(self, core, timing=Timing(), frame="object"):
+        self.core, self.timing, self.frame = core, timing, frame
+        self.default_frame, self.default_views = frame, core.episode.config.max_views
+        self.state, self.goal, self.header = IDLE, None, None
+        self.k, self.info_refused = None, None  # the latest camera_info, or why it was refused
+        self.poses = deque(maxlen=200)          # (stamp, position, optical rotation)
+        self.expect_poses = True                # until an image has waited in vain for its pose
+        self.pending, self.request = None, None  # Pending; the request's stamp
+        self.asked_at, self.tries = None, 0     # when the view was (last) asked for; how often
+        self.started = self.paused_at = None
+        self.paused_for, self.resumed_state = 0.0, None
+        self.counts, self.health = Counter(), Health()
+        self.notes = []                         # one-off information the node logs once
+
+    # --- events -----------------------------------------------------------------------------
+
+    def start(self, now, goal=None, frame="", object_size=0.0, max_views=0, sensing=None):
+        """A new object (~/reset, or a goal): ends the episode under way (canceled), asks the
+        first view. Empty/zero arguments keep the node's settings."""
+        out = [replace(end, replaced=True) for end in self.cancel(now)]
+        if object_size:
+            sensing = replace(sensing or self.core.sensing, object_size=float(object_size))
+        self.core.episode.config = replace(self.core.episode.config,
+                                           max_views=int(max_views) or self.default_views)
+        self.core.reset(sensing=sensing)
+        self.frame = frame or self.default_frame
+        self.goal, self.header, self.pending, self.request = goal, None, None, None
+        self.started, self.paused_for, self.state = now, 0.0, WAITING
+        self.health.started(now)
+        return out + [self.ask(now)]
+
+    def cancel(self, now):
+        """End the episode under way at once (status canceled, the best guess so far kept)."""
+        if not self.running:
+            return []
+        self.pending = None
+        return [self.end(now, self.core.so_far("canceled"))]
+
+    def pause(self, now):
+        """The node stops answering (deactivate): the episode waits, its time stopped."""
+        if self.state != PAUSED:
+            self.resumed_state, self.state, self.paused_at = self.state, PAUSED, now
+            self.pending = self.asked_at = None
+        return []
+
+    def resume(self, now):
+        """The node answers again (activate): an episode under way asks its view again."""
+        if self.state != PAUSED:
+            return []
+        paused, self.state = now - self.paused_at, self.resumed_state
+        self.paused_for += paused
+        self.health.resumed(paused)
+        if self.state == CLASSIFYING:
+            self.state = WAITING
+        return [self.ask(now)] if self.running else []
+
+    def info(self, now, k=None, refused=None):
+        """A camera_info: its intrinsics, or why it was refused (images then wait for one that
+        passes, rather than reach the model through the last one or a guess)."""
+        if refused is not None:
+            self.k, self.info_refused = None, refused
+            return [Refuse("depth/camera_info", f"camera_info refused: {refused}")]
+        try:
+            self.k, self.info_refused = plausible.check_intrinsics(k), None
+        except ValueError as e:
+            return self.info(now, refused=str(e))
+        return []
+
+    def pose(self, now, frame, stamp, position, rotation):
+        """A camera pose in `frame`, stamped `stamp`: kept, and an image waiting for it goes on."""
+        try:
+            if frame != self.frame:
+                raise InputError(f"camera/pose header.frame_id {frame!r} is not the object frame "
+                                 f"{self.frame!r} (parameter frame_id, or the goal's object_frame)")
+            stamp = plausible.check_clock(stamp, now, self.timing.max_clock_offset, "camera/pose")
+            plausible.check_camera_position(position)
+            size = self.core.sensing.object_size
+            plausible.check_outside_box(position, self.core.centre * size, size)
+        except ValueError as e:
+            return [Refuse("camera/pose", f"camera/pose refused: {e}")]
+        self.poses.append((stamp, np.asarray(position, float), np.asarray(rotation, float)))
+        self.expect_poses = True
+        if self.state == CLASSIFYING:
+            found = self.pose_at(self.pending.stamp)
+            if found is not None:
+                return self.classify(now, found)
+        return []
+
+    def image(self, now, stamp, metres=None, header=None, arrived=None, refused=None):
+        """Classify a depth image stamped `stamp` (metres, NaN = no return; or why the node
+        could not read it) now, or keep it until the pose of its stamp comes."""
+        self.counts["received"] += 1
+        self.health.frame(now)
+        if self.state in (IDLE, ENDED, PAUSED):
+            self.counts["idle"] += 1
+            return []
+        try:
+            stamp = plausible.check_clock(stamp, now, self.timing.max_clock_offset)
+        except InputError as e:
+            return self.reject(now, str(e))
+        # fresh: stamped at or after the request (1 us spared for the stamp's round trip)
+        if self.timing.require_fresh_images and self.request is not None and \
+                stamp < self.request - 1e-6:
+            self.counts["stale"] += 1
+            return []  # taken before the camera reached the requested view
+        if refused is not None:
+            return self.reject(now, refused)
+        k = self.k
+        if k is None and self.info_refused:
+            return self.reject(now, f"the latest camera_info was refused ({self.info_refused}): "
+                                    f"waiting for one that passes")
+        if k is None:
+            self.note("info", "no CameraInfo on depth/camera_info yet: assuming the model's own "
+                              "camera (its field of view at the image's size)")
+        elif (k.height, k.width) != metres.shape:
+            return self.reject(now, f"image is {metres.shape[1]}x{metres.shape[0]} but the "
+                                    f"camera_info is for {k.width}x{k.height}")
+        since = self.pending.since if self.pending is not None else now
+        self.pending = Pending(stamp, metres, k, since, now if arrived is None else arrived, header)
+        found = self.pose_at(stamp)
+        if found is None and self.expect_poses:  # its pose may still be on its way
+            # a newer image replaces the waiting one but not its wait: with no poses at all, a
+            # 30 Hz camera would otherwise restart the wait forever
+            self.state = CLASSIFYING
+            return []
+        return self.classify(now, found)
+
+    def tick(self, now):
+        """The node's timer: a late pose given up, an episode or a view timed out."""
+        if not self.running or self.state == PAUSED:
+            return []
+        out = []
+        if self.state == CLASSIFYING and now - self.pending.since > self.timing.pose_tolerance:
+            found = self.pose_at(self.pending.stamp, final=True)
+            if not self.poses:
+                self.expect_poses = False
+                self.note("pose", "no camera/pose received: assuming each image is taken at the "
+                                  "requested view")
+            elif found is None:
+                out.append(Refuse("pose_tolerance", f"no camera/pose within pose_tolerance "
+                                                    f"({self.timing.pose_tolerance} s) of the "
+                                                    f"image: assuming the requested view"))
+            out += self.classify(now, found)
+        if self.running and self.elapsed(now) > self.timing.episode_timeout:
+            self.pending = None
+            out.append(Refuse("episode_timeout", f"the episode ran past episode_timeout "
+                                                 f"({self.timing.episode_timeout:g} s) after "
+                                                 f"{self.core.episode.steps} views: it ends with "
+                                                 f"timeout"))
+            return out + [self.end(now, self.core.time_out())]
+        return out + self.check_view(now)
+
+    # --- the loop's own steps ---------------------------------------------------------------
+
+    @property
+    def running(self):
+        """An episode is under way (paused or not)."""
+        return self.state in (WAITING, CLASSIFYING) or \
+            (self.state == PAUSED and self.resumed_state in (WAITING, CLASSIFYING))
+
+    def elapsed(self, now):
+        end = self.paused_at if self.state == PAUSED else now
+        return end - self.started - self.paused_for if self.started is not None else 0.0
+
+    def travel(self):
+        return travel(self.core.views_taken())
+
+    def note(self, key, text):
+        self.notes.append((key, text))
+
+    def ask(self, now, again=False):
+        """The request for the core's next view (`again`: the same one once more)."""
+        position, rotation = self.core.requested_pose(self.k)
+        if not again:  # an answer to any try of this view is fresh
+            self.request, self.tries = now, 0
+        self.tries += 1
+        self.asked_at = now
+        return AskView(position, rotation, self.frame, now, again)
+
+    def reject(self, now, reason):
+        self.counts["rejected"] += 1
+        self.health.refuse(now)
+        return [Refuse("depth/image", f"depth image refused: {reason}")]
+
+    def pose_at(self, stamp, final=False):
+        """(position, rotation) of the pose stamped like the image, else the nearest within
+        pose_tolerance; None while none is that near. Until `final`, a pose stamped after the
+        image must have arrived too (the image's own may still be on its way)."""
+        best = min(self.poses, key=lambda p: abs(p[0] - stamp), default=None)
+        if best is None or abs(best[0] - stamp) > self.timing.pose_tolerance:
+            return None
+        if not final and best[0] != stamp and max(p[0] for p in self.poses) < stamp:
+            return None
+        return best[1:]
+
+    def classify(self, now, found):
+        """The waiting image through the core, with its pose (None: the view asked for)."""
+        p, self.pending, self.state = self.pending, None, WAITING
+        try:
+            obs = self.core.observe(p.metres, p.k, *(found or (None, None)))
+        except InputError as e:  # the image itself (its shape); a bug elsewhere is not an input
+            return self.reject(now, str(e))
+        self.asked_at = None  # answered
+        if obs.status == "empty":
+            self.counts["empty"] += 1
+            return [Refuse("empty", f"no object in the image ({obs.object_fraction:.2%} of the "
+                                    f"model's pixels): asking for the same view again"),
+                    self.ask(now)]
+        out = []
+        if obs.status != "no_object":
+            self.counts["classified"] += 1
+            self.header = p.header
+            ask = None if obs.done else self.ask(now)
+            out += [ask] if ask is not None else []
+            out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now),
+                            self.goal))
+        if obs.done:
+            out.append(self.end(now, obs))
+        return out
+
+    def check_view(self, now):
+        """Send a request no usable image answered within view_timeout again; after max_retries
+        resends give its view up (the core picks another, or ends the episode: no_image)."""
+        if self.asked_at is None or self.state != WAITING or \
+                now - self.asked_at < self.timing.view_timeout:
+            return []
+        view = "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
+        if self.tries <= self.timing.max_retries:
+            self.counts["resent"] += 1
+            return [Refuse("view_timeout", f"no usable image for view {view} within view_timeout "
+                                           f"({self.timing.view_timeout:g} s): asking again (try "
+                                           f"{self.tries + 1} of {self.timing.max_retries + 1})"),
+                    self.ask(now, again=True)]
+        self.counts["unreachable"] += 1
+        obs = self.core.view_unreachable()
+        if obs.done:
+            return [Refuse("no_image", f"view {view} unreachable after {self.tries} tries: no "
+                                       f"view can be had ({self.core.sensing.max_unreachable_views} "
+                                       f"unreachable in a row, or none left); the episode ends "
+                                       f"with no_image"), self.end(now, obs)]
+        other = "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
+        return [Refuse("unreachable", f"view {view} unreachable after {self.tries} tries: asking "
+                                      f"for {other} instead"), self.ask(now)]
+
+    def end(self, now, obs):
+        result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now)}
+        end = End(obs, self.header, result, self.goal)
+        self.health.ended(obs.status)
+        self.state, self.goal, self.request, self.asked_at = ENDED, None, None, None
+        return end

@@ -1,0 +1,163 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""The `recognize` action in one process: the recognizer, the simulated camera and an action
+client over real topics. Feedback per image and a result; a cancel; a goal while one runs;
+the goal's fields; refused goals. Across processes: test_cross_process_action.py."""
+import time
+
+import numpy as np
+import pytest
+from action_msgs.msg import GoalStatus
+
+from conftest import import_ros, need_vision_msgs
+
+rclpy = import_ros("rclpy")
+need_vision_msgs()
+from geometry_msgs.msg import PoseStamped  # noqa: E402
+from rclpy.action import ActionClient  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+
+import msg_adapters as ma  # noqa: E402
+from active_recognition import geometry  # noqa: E402
+from active_recognition.checkpoint import shipped  # noqa: E402
+from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
+from active_recognition.nodes.recognize_client import feedback_line, result_line  # noqa: E402
+from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
+from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
+
+Recognize = pytest.importorskip("active_recognition_interfaces.action").Recognize \
+    if not __import__("os").environ.get("CI") else \
+    __import__("active_recognition_interfaces.action", fromlist=["Recognize"]).Recognize
+
+
+class Goal:
+    """One goal sent: its feedback, its result, and the times they came."""
+
+    def __init__(self, executor, client, **fields):
+        self.feedback, self.times = [], []
+        self.executor = executor
+        self.sent = client.send_goal_async(Recognize.Goal(**fields), feedback_callback=self.on_feedback)
+        assert spin_until(executor, self.sent.done, 10)
+        self.handle = self.sent.result()
+        self.result = self.handle.get_result_async() if self.handle.accepted else None
+
+    def on_feedback(self, msg):
+        self.feedback.append(msg.feedback)
+        self.times.append(time.monotonic())
+
+    def wait(self, timeout=30):
+        assert spin_until(self.executor, self.result.done, timeout), "no result"
+        return self.result.result().result, self.result.result().status
+
+
+@pytest.fixture
+def loop():
+    def make(**params):
+        ctx, executor = session.__enter__()
+        made.append(session)
+        recognizer = Recognizer(context=ctx, parameter_overrides=[
+            Parameter(k, value=v) for k, v in {"checkpoint": str(shipped("procedural")), "seed": 1,
+                                               **params}.items()])
+        camera = SimulatedCameraNode(context=ctx, parameter_overrides=[Parameter("index", value=4)])
+        client_node = rclpy.create_node("action_client", context=ctx)
+        views = []
+        client_node.create_subscription(PoseStamped, "next_view",
+                                        lambda m: views.append((time.monotonic(), m)), 100)
+        for n in (recognizer, camera, client_node):
+            executor.add_node(n)
+        client = ActionClient(client_node, Recognize, "recognize")
+        assert client.wait_for_server(timeout_sec=10)
+        return executor, recognizer, camera, client, views
+
+    session, made = ros_session(), []
+    yield make
+    for s in made:
+        s.__exit__(None, None, None)
+
+
+def test_a_goal_gets_feedback_for_each_image_and_a_result(loop):
+    executor, recognizer, camera, client, views = loop()
+    goal = Goal(executor, client)
+    result, status = goal.wait()
+    assert status == GoalStatus.STATUS_SUCCEEDED and result.status == "recognized"
+    assert [f.views for f in goal.feedback] == list(range(1, result.views + 1))
+    assert result.classification.results[int(np.argmax([h.score for h in result.classification.results]))] \
+        .class_id == "bathtub"  # procedural/test[4]
+    taken = recognizer.core.views_taken()
+    assert result.travel == pytest.approx(geometry.travel(taken), rel=1e-5) and result.travel > 0
+    assert goal.feedback[-1].travel == pytest.approx(result.travel, rel=1e-5)
+    assert 0 < goal.feedback[-1].elapsed <= result.elapsed < 30
+    # each feedback's next_view is the request that followed its image; none after the last
+    asked = [m for _, m in views]
+    assert [f.next_view.pose for f in goal.feedback[:-1]] == [m.pose for m in asked[1:len(goal.feedback)]]
+    assert goal.feedback[-1].next_view.header.frame_id == ""
+    assert "view 1:" in feedback_line(goal.feedback[0]) and "recognized (succeeded)" in \
+        result_line(result, status)
+
+
+def test_a_cancel_after_the_second_image_ends_canceled_at_once_and_no_view_follows(loop):
+    executor, recognizer, camera, client, views = loop(entropy_threshold=0.0)  # never sure
+    goal = Goal(executor, client)
+    assert spin_until(executor, lambda: len(goal.feedback) >= 2, 20)
+    asked = time.monotonic()
+    canceled = goal.handle.cancel_goal_async()
+    result, status = goal.wait(5)
+    assert time.monotonic() - asked < 0.5 and canceled.done()
+    assert status == GoalStatus.STATUS_CANCELED and result.status == "canceled"
+    assert result.views == len(goal.feedback) >= 2
+    assert result.classification.results[0].class_id == "UNLABELED"  # best guess after it
+    ended, stamps = time.monotonic(), [ma.stamp_seconds(m.header.stamp) for _, m in views]
+    spin_until(executor, lambda: False, 1.0)
+    assert [t for t, _ in views if t > ended] == []  # none after its result
+    assert max(stamps) <= stamps[0] + result.elapsed + 1e-6  # none after the episode's end
+
+
+@pytest.mark.parametrize("policy", ["reject", "preempt"])
+def test_a_second_goal_while_one_runs_is_rejected_or_preempts(loop, policy):
+    executor, recognizer, camera, client, views = loop(goal_policy=policy, entropy_threshold=0.0)
+    first = Goal(executor, client)
+    assert spin_until(executor, lambda: len(first.feedback) >= 1, 20)
+    second = Goal(executor, client, max_views=2)
+    if policy == "reject":
+        assert not second.handle.accepted and "another goal is running" in \
+            recognizer.refuse.latest["recognize"]
+        result, status = first.wait()
+        assert status == GoalStatus.STATUS_ABORTED and result.status == "timeout" or \
+            (result.status == "recognized" and result.views == 10)
+        return
+    result, status = first.wait(5)
+    assert status == GoalStatus.STATUS_ABORTED and result.status == "canceled"
+    result, status = second.wait()
+    assert result.views == 2 and [f.views for f in second.feedback] == [1, 2]
+
+
+def test_the_goals_fields_set_the_frame_the_size_and_the_views(loop):
+    executor, recognizer, camera, client, views = loop()
+    assert Goal(executor, client).wait()[0].views >= 1  # the node's own settings; K known after
+    assert recognizer.core.sensing.object_size == 1.0 and {m.header.frame_id for _, m in views} == {"object"}
+    before = len(views)
+    goal = Goal(executor, client, object_frame="table", object_size=2.0, max_views=1)
+    result, status = goal.wait()
+    assert result.views == 1 and result.travel == 0.0
+    assert {m.header.frame_id for _, m in views[before:]} == {"table"}  # the camera answered in it too
+    radius = np.linalg.norm([getattr(views[before][1].pose.position, a) for a in "xyz"])
+    assert recognizer.core.sensing.object_size == 2.0  # as far as an object of 2 m needs
+    assert radius == pytest.approx(recognizer.core.standoff(recognizer.loop.k), rel=1e-6)
+
+
+@pytest.mark.parametrize("fields, why", [({"object_size": float("nan")}, "object_size"),
+                                         ({"object_size": 1e-5}, "object_size"),
+                                         ({"max_views": 1001}, "max_views")])
+def test_a_bad_goal_is_rejected_by_name(loop, fields, why):
+    executor, recognizer, camera, client, views = loop()
+    goal = Goal(executor, client, **fields)
+    assert not goal.handle.accepted and why in recognizer.refuse.latest["recognize"]
+    assert views == [] and recognizer.loop.state == "idle"
+
+
+def test_an_inactive_node_rejects_goals_and_reset_still_works(loop):
+    executor, recognizer, camera, client, views = loop()
+    recognizer.trigger_deactivate()
+    goal = Goal(executor, client)
+    assert not goal.handle.accepted and "inactive" in recognizer.refuse.latest["recognize"]

@@ -1,0 +1,208 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""The recognizer's loop (controller.Controller) without rclpy, on a simulated clock: the shipped
+procedural model and the simulated camera's core answer its requests, and each test asserts the
+commands it issues and the status its episode ends with."""
+import numpy as np
+import pytest
+
+from active_recognition import geometry
+from active_recognition.checkpoint import shipped
+from active_recognition.controller import AskView, Controller, End, Refuse, Step, Timing
+from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.simulated_camera import SimulatedCamera
+
+
+@pytest.fixture(scope="module")
+def core():
+    return ActiveRecognizer(str(shipped("procedural")))
+
+
+@pytest.fixture
+def loop(core):
+    core.rng, core.sensing = np.random.default_rng(0), SensingConfig()
+    return Controller(core, Timing(view_timeout=3.0, max_retries=1, pose_tolerance=0.05,
+                                   episode_timeout=60.0))
+
+
+@pytest.fixture(scope="module")
+def camera():
+    sim = SimulatedCamera(seed=0)
+    sim.load(dataset="procedural", split="test", index=3)
+    return sim
+
+
+def kinds(commands):
+    return [type(c).__name__ for c in commands]
+
+
+def answer(loop, camera, ask, now, pose=True):
+    """The camera's image of request `ask`, stamped like it, with its pose first (as a camera
+    publishes them) unless `pose` is False -> the loop's commands."""
+    metres, position, rotation = camera.capture(ask.position, ask.rotation)
+    out = loop.pose(now, ask.frame, ask.stamp, position, rotation) if pose else []
+    return out + loop.image(now, ask.stamp, metres, header=("image", ask.stamp))
+
+
+def run(loop, camera, commands, now, step=0.5, limit=20):
+    """Answer every request until the episode ends -> (all commands, the time)."""
+    seen = list(commands)
+    for _ in range(limit):
+        ask = [c for c in commands if isinstance(c, AskView)]
+        if any(isinstance(c, End) for c in commands) or not ask:
+            break
+        now += step
+        commands = answer(loop, camera, ask[-1], now)
+        seen += commands
+    return seen, now
+
+
+def test_a_normal_episode_asks_steps_and_ends_recognized(loop, camera):
+    first = loop.start(0.0)
+    assert kinds(first) == ["AskView"] and loop.state == "waiting"
+    commands, now = run(loop, camera, first, 0.0)
+    steps = [c for c in commands if isinstance(c, Step)]
+    end = commands[-1]
+    assert isinstance(end, End) and end.result["status"] == "recognized"
+    assert all(isinstance(c, (AskView, Step, End)) for c in commands)  # nothing refused
+    # each image: a step (and the next request before it, unless it was the last)
+    assert [s.obs.views for s in steps] == list(range(1, len(steps) + 1))
+    assert steps[-1].next_view is None and all(s.next_view is not None for s in steps[:-1])
+    views = loop.core.views_taken()
+    assert end.result["travel"] == pytest.approx(geometry.travel(views))
+    assert end.result["elapsed"] == pytest.approx(now) and end.result["views"] == len(steps)
+    assert end.header == ("image", steps[-1].header[1]) and loop.state == "ended"
+    assert loop.image(now + 1, now + 1, np.zeros((64, 64))) == [] and loop.counts["idle"] == 1
+
+
+def test_travel_is_the_sum_of_great_circle_angles():
+    views = [(np.pi / 2, 0.0), (np.pi / 2, np.pi / 2), (0.0, 0.0), (0.0, 1.0)]
+    assert geometry.travel(views) == pytest.approx(np.pi)  # a quarter turn, a quarter, none
+    rng = np.random.default_rng(5)
+    a, b = rng.normal(size=3), rng.normal(size=3)
+    angle = np.arccos(a @ b / np.linalg.norm(a) / np.linalg.norm(b))
+    ta, pa = geometry.view_from_position(a)[1:]
+    tb, pb = geometry.view_from_position(b)[1:]
+    assert geometry.travel([(ta, pa), (tb, pb)]) == pytest.approx(angle)
+    assert geometry.travel(np.zeros((1, 2))) == 0.0
+
+
+def test_a_view_that_never_comes_is_asked_again_then_given_up_then_no_image(loop):
+    asked = loop.start(0.0)[0]
+    assert loop.tick(2.9) == []
+    again = loop.tick(3.1)
+    assert kinds(again) == ["Refuse", "AskView"] and again[0].key == "view_timeout"
+    assert again[1].again and np.allclose(again[1].position, asked.position)
+    moved = loop.tick(6.2)  # the resend unanswered too: the view is given up for another
+    assert kinds(moved) == ["Refuse", "AskView"] and moved[0].key == "unreachable"
+    assert not moved[1].again and not np.allclose(moved[1].position, asked.position)
+    assert kinds(loop.tick(9.3)) == ["Refuse", "AskView"]
+    ended = loop.tick(12.4)  # two views unreachable in a row (max_unreachable_views)
+    assert kinds(ended) == ["Refuse", "End"] and ended[0].key == "no_image"
+    assert ended[1].result["status"] == "no_image" and ended[1].result["views"] == 0
+    assert loop.counts["resent"] == 2 and loop.counts["unreachable"] == 2
+
+
+def test_a_late_pose_is_waited_for_and_used(loop, camera):
+    ask = loop.start(0.0, sensing=SensingConfig(recentre=0.0))[0]  # about the frame's centre
+    metres, position, rotation = camera.capture(*geometry_turned(ask))
+    assert loop.image(0.2, ask.stamp, metres, header="h") == [] and loop.state == "classifying"
+    assert loop.tick(0.22) == []  # within pose_tolerance of its arrival: still waiting
+    out = loop.pose(0.23, "object", ask.stamp, position, rotation)
+    assert kinds(out) == ["AskView", "Step"]
+    taken = loop.core.views_taken()[0]
+    np.testing.assert_allclose(taken, geometry.view_from_position(position)[1:], atol=1e-5)
+    assert abs(taken[1] - geometry.view_from_position(ask.position)[2]) > 0.3  # not the asked one
+
+
+def geometry_turned(ask, degrees=25.0):
+    """The request turned about z: where an arm that overshot went."""
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    rz = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    return rz @ ask.position, rz @ ask.rotation
+
+
+def test_a_pose_that_never_comes_is_given_up_after_the_tolerance(loop, camera):
+    assert loop.pose(0.0, "object", -1.0, np.array([0.0, 0.0, 3.0]), np.eye(3)) == []  # poses come
+    ask = loop.start(0.0)[0]
+    metres, _, _ = camera.capture(ask.position, ask.rotation)
+    assert loop.image(0.1, ask.stamp, metres) == []
+    out = loop.tick(0.16)
+    assert kinds(out) == ["Refuse", "AskView", "Step"] and out[0].key == "pose_tolerance"
+
+
+def test_a_pause_stops_the_clock_and_a_resume_asks_the_view_again(loop, camera):
+    ask = loop.start(0.0)[0]
+    assert loop.pause(1.0) == [] and loop.state == "paused"
+    assert loop.tick(500.0) == []  # neither view_timeout nor episode_timeout while paused
+    assert loop.image(500.0, 500.0, np.zeros((64, 64))) == []
+    again = loop.resume(501.0)
+    assert kinds(again) == ["AskView"] and np.allclose(again[0].position, ask.position)
+    assert loop.state == "waiting" and loop.elapsed(502.0) == pytest.approx(2.0)
+    commands, now = run(loop, camera, again, 502.0)
+    assert commands[-1].result["status"] == "recognized"
+    assert commands[-1].result["elapsed"] == pytest.approx(now - 500.0)
+
+
+def test_an_episode_past_episode_timeout_ends_timeout_with_its_best_guess(loop, camera):
+    loop.timing = Timing(view_timeout=100.0, episode_timeout=10.0)
+    ask = loop.start(0.0)[0]
+    first = answer(loop, camera, ask, 1.0)
+    assert kinds(first) == ["AskView", "Step"]
+    assert loop.tick(9.9) == []
+    out = loop.tick(10.1)
+    assert kinds(out) == ["Refuse", "End"] and out[0].key == "episode_timeout"
+    assert out[1].result["status"] == "timeout" and out[1].result["label"] == first[1].obs.label
+
+
+def test_a_cancel_ends_at_once_with_the_best_guess_and_no_request_follows(loop, camera):
+    ask = loop.start(0.0, goal="g")[0]
+    first = answer(loop, camera, ask, 0.5)
+    out = loop.cancel(0.6)
+    assert kinds(out) == ["End"] and out[0].goal == "g" and not out[0].replaced
+    assert out[0].result["status"] == "canceled" and out[0].result["label"] == first[1].obs.label
+    assert out[0].result["views"] == 1
+    assert loop.tick(100.0) == [] and loop.cancel(100.0) == []  # nothing after it
+    metres, _, _ = camera.capture(first[0].position, first[0].rotation)
+    assert loop.image(101.0, 101.0, metres) == [] and loop.counts["idle"] == 1
+
+
+def test_a_second_start_ends_the_first_canceled_and_runs_on(loop, camera):
+    first = loop.start(0.0, goal="a", max_views=2)
+    answer(loop, camera, first[0], 0.5)
+    second = loop.start(1.0, goal="b", object_size=2.0)
+    assert kinds(second) == ["End", "AskView"]
+    assert second[0].goal == "a" and second[0].result["status"] == "canceled" and second[0].replaced
+    assert loop.core.sensing.object_size == 2.0 and loop.core.episode.config.max_views == 10
+    commands, _ = run(loop, camera, second[1:], 1.0)
+    assert commands[-1].goal == "b" and commands[-1].result["status"] != "canceled"
+
+
+def test_max_views_of_a_start_stops_the_episode_there(loop, camera):
+    commands, _ = run(loop, camera, loop.start(0.0, max_views=1), 0.0)
+    assert kinds(commands) == ["AskView", "Step", "End"] and commands[-1].result["views"] == 1
+
+
+def test_inputs_are_refused_by_name(loop, camera):
+    ask = loop.start(100.0)[0]
+    out = loop.pose(100.0, "world", ask.stamp, ask.position, ask.rotation)
+    assert kinds(out) == ["Refuse"] and out[0].key == "camera/pose" and "'world'" in out[0].reason
+    assert loop.image(100.0, 99.0, np.zeros((4, 4))) == [] and loop.counts["stale"] == 1
+    out = loop.image(100.0, 0.0, np.zeros((4, 4)))  # another clock
+    assert kinds(out) == ["Refuse"] and "clock" in out[0].reason
+    assert loop.info(100.0, refused="K all zero") == [Refuse("depth/camera_info",
+                                                             "camera_info refused: K all zero")]
+    out = loop.image(100.0, ask.stamp, np.zeros((4, 4)))
+    assert "camera_info was refused" in out[0].reason and loop.counts["rejected"] == 2
+
+
+def test_a_bug_in_the_core_is_not_called_a_refused_image(loop, monkeypatch):
+    ask = loop.start(0.0)[0]
+
+    def broken(*args):
+        raise ValueError("a bug")
+    monkeypatch.setattr(loop.core, "observe", broken)
+    assert loop.image(0.1, ask.stamp, np.zeros((64, 64))) == []  # waits for its pose
+    with pytest.raises(ValueError, match="a bug"):
+        loop.tick(0.2)
