@@ -38,8 +38,13 @@ def model_path(path=None, dataset=DEFAULT_DATASET):
     """The model file to read. The one rule for a missing one: no `path` (None or "") means the
     shipped model of the dataset whose objects the model will see. The recognizer node's are
     real objects (modelnet: modelnet10.pt); evaluate's and the demo's come from their dataset; a
-    library call that names none gets procedural.pt, the package's own objects."""
+    library call that names none gets procedural.pt, the package's own objects. A shipped
+    model's bare file name (procedural.pt, twins.pt, modelnet10.pt) names that model unless a
+    file of that name lies in the working folder: how a launch file or a node's parameter
+    names one, as the models install with the Python package, not in its share."""
     if path:
+        if str(path) in SHIPPED_FOR.values() and not Path(path).exists():
+            return MODELS / str(path)
         return Path(path)
     if dataset not in SHIPPED_FOR:
         raise InputError(f"no model file given, and none is shipped for the {dataset} dataset "

@@ -13,6 +13,11 @@ from unittest import mock
 import pytest
 import yaml
 
+from active_recognition import checkpoint
+from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.node_params import RecognizerParameters, SimulatedCameraParameters
+from active_recognition.options import parameters
+
 ROOT = Path(__file__).resolve().parents[1]
 LAUNCH = ROOT / "launch" / "active_recognition.launch.xml"
 REAL = ROOT / "launch" / "real_camera.launch.xml"
@@ -67,6 +72,8 @@ def launch_problems(path, kwargs):
                 problems.append(f"{where}: {env.get('name')} names {relative!r}, which setup.py "
                                 f"does not install")
         for param in node.iter("param"):
+            if param.get("from") is None:  # name and value: node_parameters checks those
+                continue
             source = re.sub(r"\$\(var (\w+)\)", lambda m: args.get(m.group(1)) or "", param.get("from", ""))
             if not source.startswith(SHARE):
                 problems.append(f"{where}: parameter file {source!r} is not in the package's share")
@@ -131,3 +138,131 @@ def test_the_shipped_fastdds_profile_is_installed_and_set_for_the_simulated_came
     bad = tmp_path / "bad.launch.xml"
     bad.write_text(LAUNCH.read_text().replace("fastdds_large_frames.xml", "fastdds_missing.xml"))
     assert any("does not install" in p for p in launch_problems(bad, kwargs))
+
+
+def substitute(text, args):
+    """`text` with the launch frontend's substitutions that these files use performed, as launch
+    (Jazzy) performs them: $(var NAME); $(find-pkg-share PKG), left as it is (SHARE); $(equals A B)
+    ("true" or "false"); $(if COND A [B]). Arguments are separated by single spaces and nest."""
+    def value(i, nested):  # the text from i up to a space or ")" that ends an argument
+        out = ""
+        while i < len(text) and not (nested and text[i] in " )"):
+            if text.startswith("$(", i):
+                part, i = substitution(i + 2)
+            else:
+                part, i = text[i], i + 1
+            out += part
+        return out, i
+
+    def substitution(i):  # just after "$(": -> (its value, the index after its ")")
+        name = re.match(r"[A-Za-z][\w-]*", text[i:]).group(0)
+        i += len(name)
+        words = []
+        while text[i] == " ":
+            word, i = value(i + 1, True)
+            words.append(word)
+        assert text[i] == ")", text
+        if name == "var":
+            return args[words[0]], i + 1
+        if name == "find-pkg-share":
+            return f"$(find-pkg-share {words[0]})", i + 1
+        if name == "equals":
+            return str(words[0] == words[1]).lower(), i + 1
+        if name == "if":
+            truth = {"true": True, "1": True, "false": False, "0": False}[words[0].lower()]
+            return (words[1] if truth else (words[2] if len(words) > 2 else "")), i + 1
+        raise AssertionError(f"substitution $({name} ...) is not one the test knows")
+    return value(0, False)[0]
+
+
+def launch_args(path):
+    """{name: default} and {name: choices} of a launch file's arguments."""
+    root = ET.parse(path).getroot()
+    return ({a.get("name"): a.get("default") for a in root.iter("arg")},
+            {a.get("name"): [c.get("value") for c in a.iter("choice")] for a in root.iter("arg")})
+
+
+def node_parameters(path, **given):
+    """{node name: {parameter: value}} as each node of the launch file gets them with the
+    arguments `given` (the others at their defaults): its parameter files' section for its name,
+    then its own name/value parameters, later ones overriding earlier ones (the order launch_ros
+    hands them to the node in); a value typed str stays a string, others are read as YAML."""
+    defaults, choices = launch_args(path)
+    unknown = set(given) - set(defaults)
+    assert not unknown, f"no such launch argument: {unknown}"
+    for name, value in given.items():
+        assert not choices[name] or value in choices[name], f"{name}:={value} is not a choice"
+    args = {**defaults, **given}
+    out = {}
+    for node in ET.parse(path).getroot().iter("node"):
+        params = out[node.get("name")] = {}
+        for param in node.iter("param"):
+            if param.get("from") is not None:
+                relative = substitute(param.get("from"), args)[len(SHARE):]
+                params.update(yaml.safe_load((ROOT / relative).read_text())[node.get("name")]["ros__parameters"])
+            else:
+                text = substitute(param.get("value"), args)
+                params[param.get("name")] = text if param.get("type") == "str" else yaml.safe_load(text)
+    return out
+
+
+def test_substitute_performs_nested_substitutions_as_launch_does():
+    rule = "$(if $(equals $(var objects) modelnet) modelnet10.pt $(var objects).pt)"
+    assert substitute(rule, {"objects": "modelnet"}) == "modelnet10.pt"
+    assert substitute(rule, {"objects": "twins"}) == "twins.pt"
+    assert substitute("$(find-pkg-share p)/config/$(var f).yaml", {"f": "x"}) == "$(find-pkg-share p)/config/x.yaml"
+    assert substitute("$(if 0 a)", {}) == "" and substitute("a b $(var x)", {"x": ""}) == "a b "
+
+
+@pytest.mark.parametrize("objects,root", [("procedural", ""), ("twins", ""), ("modelnet", "/data/ModelNet10")])
+def test_objects_shows_the_camera_the_objects_the_model_was_trained_on(objects, root):
+    """`objects` sets the camera's dataset and root and the recognizer's checkpoint to that
+    dataset's shipped model, as `active-recognition demo --dataset` picks it (model_path with
+    no file named); the parameter files themselves (config/*.yaml, generated) are untouched."""
+    given = {"objects": objects, "root": root} if root else {"objects": objects}
+    params = node_parameters(LAUNCH, **given)
+    camera, recognizer = params["simulated_camera"], params["recognizer"]
+    assert camera["dataset"] == objects and camera["root"] == root
+    # the recognizer's own rule for its checkpoint parameter, against the demo's for the dataset
+    model = checkpoint.model_path(recognizer["checkpoint"], "modelnet")
+    assert model == checkpoint.model_path("", objects) == checkpoint.shipped(objects) and model.is_file()
+    if objects != "modelnet":  # an embedded dataset: the model's classes are the objects'
+        shown = open_dataset(objects, None, camera["split"], cache_dir=default_cache_dir())
+        assert checkpoint.load_model(model)[1] == list(shown.classes)
+    # the rest of each node's parameters is its file's
+    for name, file in (("recognizer", "recognizer.yaml"), ("simulated_camera", "simulated_camera.yaml")):
+        own = yaml.safe_load((ROOT / "config" / file).read_text())[name]["ros__parameters"]
+        changed = {k for k in own if own[k] != params[name][k]}
+        assert changed <= {"checkpoint", "dataset", "root"}
+
+
+def test_objects_defaults_to_procedural_and_offers_each_shipped_model():
+    defaults, choices = launch_args(LAUNCH)
+    assert defaults["objects"] == "procedural" and defaults["root"] == ""
+    assert choices["objects"] == list(checkpoint.SHIPPED_FOR)
+    params = node_parameters(LAUNCH)
+    assert params["simulated_camera"]["dataset"] == "procedural"
+    assert checkpoint.model_path(params["recognizer"]["checkpoint"], "modelnet") == checkpoint.shipped("procedural")
+    # the recognizer's file alone would show it ModelNet10's model (real furniture)
+    alone = yaml.safe_load((ROOT / "config" / "recognizer.yaml").read_text())["recognizer"]["ros__parameters"]
+    assert checkpoint.model_path(alone["checkpoint"], "modelnet") == checkpoint.shipped("modelnet")
+    with pytest.raises(AssertionError, match="not a choice"):
+        node_parameters(LAUNCH, objects="shapenet")
+
+
+@pytest.mark.parametrize("objects", ["procedural", "modelnet"])
+def test_every_parameter_the_launch_file_gives_a_node_is_one_it_declares(objects):
+    """A node refuses to start on a parameter it does not declare (nodes.declare_parameters)."""
+    declared = {"recognizer": set(parameters(RecognizerParameters)),
+                "simulated_camera": set(parameters(SimulatedCameraParameters))}
+    for name, params in node_parameters(LAUNCH, objects=objects).items():
+        assert set(params) - declared[name] == set(), name
+
+
+def test_a_shipped_models_bare_name_is_that_model_unless_a_file_of_that_name_is_here(tmp_path, monkeypatch):
+    for dataset, name in checkpoint.SHIPPED_FOR.items():
+        assert checkpoint.model_path(name) == checkpoint.shipped(dataset)
+    assert checkpoint.model_path("x/procedural.pt") == Path("x/procedural.pt")  # a path is a path
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "twins.pt").write_bytes(b"")
+    assert checkpoint.model_path("twins.pt") == Path("twins.pt")  # the file here wins
