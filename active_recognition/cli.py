@@ -80,7 +80,8 @@ def cmd_recognize(args):
     from .nodes.recognize_client import run_goal
     result = run_goal(args.action, args.object_frame, args.object_size, args.max_views,
                       args.timeout)
-    return 0 if result is not None and result.status in ("recognized", "unknown") else 1
+    status = result.status if result is not None else "rejected"
+    return 0 if status in ("recognized", "unknown") else 130 if status == "canceled" else 1
 
 
 def cmd_evaluate(args):

@@ -25,11 +25,13 @@ from typing import Any
 import numpy as np
 
 from . import plausible
+from .episode import MAX_VIEWS
 from .geometry import Intrinsics, travel
 from .health import Health
 from .validation import InputError
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
+IMAGE_COUNTS = ("received", "classified", "empty", "stale")  # reported as "images <count>"
 
 
 @dataclass
@@ -253,6 +255,24 @@ class Controller:
                                                  f"timeout"))
             return out + [self.end(now, self.core.time_out())]
         return out + self.check_view(now)
+
+    def check_goal(self, object_size=0.0, max_views=0):
+        """Refuse (InputError) a start the loop cannot run: a size or a view count out of range
+        (0 keeps the node's)."""
+        if not (object_size == 0 or 1e-3 <= object_size <= 100):  # NaN too
+            raise InputError(f"object_size must be 0 (the node's) or 0.001 to 100 m, got {object_size}")
+        if not 0 <= max_views <= MAX_VIEWS:
+            raise InputError(f"max_views must be 0 (the node's) to {MAX_VIEWS}, got {max_views}")
+
+    def report(self, now, active=True, state="active"):
+        """(level, message, values) of the loop for /diagnostics: its health, counts and timing."""
+        level, message = self.health.level(now, self.timing.view_timeout, active, state)
+        values = {**self.health.values(now), **{f"images {k}": self.counts[k] for k in IMAGE_COUNTS},
+                  "requests resent": self.counts["resent"],
+                  "views unreachable": self.counts["unreachable"],
+                  "view_timeout (s)": self.timing.view_timeout,
+                  "episode_timeout (s)": self.timing.episode_timeout}
+        return level, message, values
 
     # --- the loop's own steps ---------------------------------------------------------------
 

@@ -11,8 +11,9 @@ read-only) made from its field (options.parameters); config/*.yaml is generated 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
+from .controller import Timing
 from .datasets import NAMES, SPLITS
 from .episode import EpisodeConfig
 from .reach import ViewLimits
@@ -21,6 +22,8 @@ from .simulated_camera import SensorConfig
 from .validation import SEED_MAX, nested, option, validate
 
 QOS_MODES = ("auto", "reliable", "sensor_data")
+SENSING_NAMES = frozenset(f.name for f in fields(SensingConfig))
+TIMING_NAMES = frozenset(f.name for f in fields(Timing))
 GOAL_POLICIES = ("reject", "preempt")
 CAMERA_QOS = ("sensor_data", "reliable")
 
@@ -132,3 +135,11 @@ class SimulatedCameraParameters:
 
     def __post_init__(self):
         validate(self)
+
+
+def changed(sensing, timing, values):
+    """(sensing, timing) with the parameters in `values` ({name: checked value}) that belong to
+    each (SensingConfig's; controller.Timing's) changed; sensing None stays None."""
+    def update(config, keys):
+        return replace(config, **{k: v for k, v in values.items() if k in keys})
+    return (None if sensing is None else update(sensing, SENSING_NAMES), update(timing, TIMING_NAMES))

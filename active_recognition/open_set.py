@@ -23,7 +23,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import torch
 
 from .validation import InputError
 
@@ -167,18 +166,6 @@ class Recorder:
         if len(out["logits"]) != len(out["probs"]):
             raise RuntimeError("recorder: the calls do not match the rollout's objects")
         return out
-
-
-def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100, fixed_path=None):
-    """evaluate.rollout of planner `name` with its logits and recurrent states recorded:
-    (Rollout, record)."""
-    from .episode import reads_mirror
-    from .evaluate import rollout
-
-    rec = Recorder(model)
-    with torch.no_grad():
-        ro = rollout(name, model, shapes, objects, starts, cfg, chunk=chunk, fixed_path=fixed_path, forward=rec)
-    return ro, rec.record(ro.probs, chunk, cfg.steps, reads_mirror(model))
 
 
 def prototype_steps(states, means):

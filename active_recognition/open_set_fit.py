@@ -49,7 +49,7 @@ def episodes(planner, model, shapes, objects, cfg, fixed_path=None):
     """(Rollout, record of logits and states) of one episode per object, each from a seeded start
     (`fixed_path`: the fixed planners' path, a checkpoint's 'fixed_path')."""
     starts = np.random.default_rng(cfg.seed).integers(0, len(cfg.limits.initial_views(50)), len(objects))
-    return open_set.recorded_rollout(planner, model, shapes, np.asarray(objects), starts, cfg, fixed_path=fixed_path)
+    return recorded_rollout(planner, model, shapes, np.asarray(objects), starts, cfg, fixed_path=fixed_path)
 
 
 def node_planner(name, model, ckpt):
@@ -185,6 +185,18 @@ def main(argv=None):
         ap.error(str(e))
     steps = ", ".join(f"{t:.4f}" for t in entry["threshold"])
     print(f"{args.out or path}: open_set thresholds by views {steps}; {entry['fitted_on']}", file=sys.stderr)
+
+
+def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100, fixed_path=None):
+    """evaluate.rollout of planner `name` with its logits and recurrent states recorded:
+    (Rollout, record)."""
+    from .episode import reads_mirror
+    from .evaluate import rollout
+
+    rec = open_set.Recorder(model)
+    with torch.no_grad():
+        ro = rollout(name, model, shapes, objects, starts, cfg, chunk=chunk, fixed_path=fixed_path, forward=rec)
+    return ro, rec.record(ro.probs, chunk, cfg.steps, reads_mirror(model))
 
 
 if __name__ == "__main__":

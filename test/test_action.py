@@ -161,3 +161,24 @@ def test_an_inactive_node_rejects_goals_and_reset_still_works(loop):
     recognizer.trigger_deactivate()
     goal = Goal(executor, client)
     assert not goal.handle.accepted and "inactive" in recognizer.refuse.latest["recognize"]
+
+
+def test_every_attribute_of_the_node_is_made_at_its_start(loop):
+    """The node's state is named in one place: configure, activate, goals, a cancel, a reset,
+    deactivate and cleanup add no attribute its constructor did not make."""
+    from std_srvs.srv import Trigger
+
+    executor, recognizer, camera, client, views = loop(autostart=False)
+    made = set(vars(recognizer))
+    recognizer.trigger_configure()
+    recognizer.trigger_activate()
+    goal = Goal(executor, client, max_views=2)
+    assert goal.wait()[0].views == 2
+    goal = Goal(executor, client)
+    goal.handle.cancel_goal_async()
+    goal.wait()
+    assert recognizer.on_reset(Trigger.Request(), Trigger.Response()).success
+    spin_until(executor, lambda: not recognizer.loop.running, 10)
+    recognizer.trigger_deactivate()
+    recognizer.trigger_cleanup()
+    assert set(vars(recognizer)) - made == set()

@@ -44,6 +44,15 @@ print(sys.modules['active_recognition_interfaces'].__file__)
 print(*sorted({line.split()[-1] for line in open('/proc/self/maps') if 'libactive_recognition_interfaces__' in line}))
 """
 
+FIND_SERVER = """
+import rclpy
+from rclpy.action import ActionClient
+from active_recognition_interfaces.action import Recognize
+rclpy.init()
+client = ActionClient(rclpy.create_node('probe'), Recognize, 'recognize')
+print('server:', client.wait_for_server(timeout_sec=30))
+"""
+
 
 def documented_build():
     """The colcon build command of docs/ros.md's "With ROS 2 installed", as arguments."""
@@ -113,7 +122,11 @@ def test_colcon_builds_and_the_installed_recognizer_starts(tmp_path, symlink):
             lines.append(node.stdout.readline())
             if "recognizer ready" in lines[-1]:
                 break
+        # it serves the action: a client in another process of the sourced workspace finds it
+        client = in_workspace(tmp_path, f"cd / && python -c {shlex.quote(FIND_SERVER)}")
+        found = client.communicate(timeout=60)[0]
     finally:
         node.terminate()
         node.wait(timeout=20)
     assert any("recognizer ready: 10 classes" in line for line in lines), "".join(lines)[-3000:]
+    assert found.strip().splitlines()[-1:] == ["server: True"], found[-3000:]

@@ -237,3 +237,41 @@ def test_the_docs_count_the_held_out_styles_as_the_code_does():
     every = held + sum(len(furniture.styles(name, False)) for name in furniture.FACTORS)
     text = " ".join((ROOT / "docs/datasets.md").read_text().split())
     assert f"Some combinations of every class ({held} of {every}) are held out" in text
+
+
+def test_the_recognizer_node_is_a_thin_shell():
+    """nodes/recognizer*.py (the node and its outputs) together stay small: the loop lives in
+    controller.py, without ROS."""
+    lines = sum(len(p.read_text().splitlines()) for p in (ROOT / "active_recognition" / "nodes").glob("recognizer*.py"))
+    assert 0 < lines <= 350, lines
+
+
+def imported_modules(path):
+    """The top-level names of every module a file imports (lazy imports too)."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            names.update(a.name.split(".")[0] for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and not node.level:
+            names.add(node.module.split(".")[0])
+    return names
+
+
+def test_only_the_nodes_import_rclpy():
+    offenders = [str(p.relative_to(ROOT)) for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")
+                 if "nodes" not in p.relative_to(ROOT).parts and "rclpy" in imported_modules(p)]
+    assert offenders == []
+
+
+def test_the_runtime_imports_nothing_of_the_harness():
+    """What the nodes import, directly or through others, holds no training or evaluation."""
+    graph = import_graph(ROOT)
+    runtime = [m for m in graph if m.startswith("active_recognition.nodes.") and m != "active_recognition.nodes.demo"]
+    seen, todo = set(), list(runtime)
+    while todo:
+        module = todo.pop()
+        if module not in seen:
+            seen.add(module)
+            todo.extend(graph[module])
+    harness = {f"active_recognition.{m}" for m in ("train", "evaluate", "open_set_fit")}
+    assert "active_recognition.nodes.recognizer" in seen and seen & harness == set()

@@ -408,7 +408,7 @@ def test_without_vision_msgs_the_node_says_once_which_outputs_are_off_and_still_
     monkeypatch.setattr(recognizer_outputs.ma, "HAVE_VISION_MSGS", False)
     monkeypatch.setattr(recognizer_outputs.ma, "VISION_MSGS_MISSING", "vision_msgs is not installed")
     said = []
-    monkeypatch.setattr(recognizer, "once", lambda key, text, warn=False: said.append((key, text)))
+    monkeypatch.setattr(recognizer.refuse, "once", lambda key, text, warn=False: said.append((key, text)))
     for transition in ("deactivate", "cleanup", "configure", "activate"):
         assert getattr(recognizer, f"trigger_{transition}")() == TransitionCallbackReturn.SUCCESS, transition
     assert said == [("vision_msgs", "vision_msgs outputs off (recognition/classification, "

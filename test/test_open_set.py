@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import open_set
+from active_recognition import open_set, open_set_fit
 from active_recognition.validation import InputError
 
 
@@ -117,7 +117,7 @@ def test_recorded_rollout_agrees_with_its_answers(readout):
     shapes = Shapes(open_dataset("procedural", split="test", per_class=1), CameraConfig(size, size))
     cfg = EvalConfig(steps=3, shared=False)
     objects, starts = sample_episodes(4, len(shapes), 1, 0)
-    ro, rec = open_set.recorded_rollout("random", model, shapes, objects, starts, cfg, chunk=3)
+    ro, rec = open_set_fit.recorded_rollout("random", model, shapes, objects, starts, cfg, chunk=3)
     assert rec["logits"].shape == (4, 3, 10) and rec["states"].shape == (4, 3, model.config.state_size)
     own = torch.from_numpy(rec["logits"]).softmax(-1).numpy()
     if readout == "mean":  # the answer is the running mean of the recorded steps' own answers

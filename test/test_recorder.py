@@ -24,8 +24,8 @@ from rclpy.serialization import serialize_message  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
 from active_recognition.nodes.demo import run_demo  # noqa: E402
-from active_recognition.nodes.recognizer_outputs import recorded_topics  # noqa: E402
-from active_recognition.nodes.recorder import Recorder, TOPICS, check_path, type_name, vision_topics  # noqa: E402
+from active_recognition.nodes.recorder import Recorder, TOPICS, check_path, recorded_topics, type_name, \
+    vision_topics  # noqa: E402
 from msg_adapters.definitions import SEPARATOR, message_definition  # noqa: E402
 
 

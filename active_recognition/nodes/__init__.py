@@ -120,6 +120,13 @@ class Throttled:
 
     def __init__(self, logger, period=2.0):
         self.logger, self.period, self.last, self.counts, self.latest = logger, period, {}, {}, {}
+        self.told = set()
+
+    def once(self, key, text, warn=False):
+        """Log `text` the first time `key` comes (information, or a warning), never again."""
+        if key not in self.told:
+            self.told.add(key)
+            (self.logger.warn if warn else self.logger.info)(text)
 
     def __call__(self, key, text):
         self.counts[key] = self.counts.get(key, 0) + 1

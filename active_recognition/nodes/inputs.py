@@ -10,7 +10,13 @@ processes in UDP fragments (FastDDS: any frame above its 512 kB shared-memory se
 reliable, best effort otherwise (or while there is none), and it subscribes again when the
 publishers change (`follow`, called now and then).
 """
+import time
+
+from geometry_msgs.msg import PoseStamped
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import CameraInfo, Image
+
+FOLLOW_S = 1.0  # how often `auto` looks at the publishers again
 
 
 def sensor_qos(reliable):
@@ -57,3 +63,27 @@ class SensorSubscription:
     @property
     def reliability(self):
         return "reliable" if self.reliable else "best_effort"
+
+
+class CameraInputs(list):
+    """A depth camera's three subscriptions: depth/camera_info, camera/pose and depth/image, in
+    that order (when all three are ready at once the executor takes them so: an image finds its
+    K and pose), each calling its callback."""
+
+    def __init__(self, node, on_info, on_pose, on_image, mode="auto"):
+        super().__init__(SensorSubscription(node, kind, topic, callback, mode) for kind, topic, callback in
+                         ((CameraInfo, "depth/camera_info", on_info), (PoseStamped, "camera/pose", on_pose),
+                          (Image, "depth/image", on_image)))
+        self.node, self.followed = node, time.monotonic()
+
+    def follow(self):
+        """Every FOLLOW_S at most: each subscription follows its publishers (SensorSubscription)."""
+        if time.monotonic() - self.followed > FOLLOW_S:
+            self.followed = time.monotonic()
+            for sub in self:
+                sub.follow()
+
+    def close(self):
+        for sub in self:
+            self.node.destroy_subscription(sub.sub)
+        self.clear()

@@ -3,44 +3,35 @@
 
 """recognizer: depth images in, class probabilities and the next view out (one object at a time).
 
-A managed (lifecycle) node: configure checks every parameter and loads the model, activate opens
-its topics, deactivate pauses the episode, cleanup frees the model; `autostart` (default) goes to
-active at once. An episode starts with a `recognize` goal (feedback per image, a result, a
-cancel) or with ~/reset (its result on recognition/result). The loop itself, its states and
-timing, is controller.Controller: this node turns messages into its events and its commands
-into messages, and nothing else. Its health goes to /diagnostics at 1 Hz.
-"""
+A managed (lifecycle) node: configure checks the parameters and loads the model, activate opens
+the topics, deactivate pauses the episode, cleanup frees the model (`autostart`: active at
+once). An episode starts with a `recognize` goal or ~/reset. Its loop, states and timing are
+controller.Controller's: this node turns messages into its events and its commands into
+messages. Health on /diagnostics at 1 Hz."""
 import sys
 import time
 from collections import deque
-from dataclasses import fields, replace
 
 from diagnostic_msgs.msg import DiagnosticArray
-from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
-from sensor_msgs.msg import CameraInfo, Image
 from std_srvs.srv import Trigger
 
 import msg_adapters as ma
 from active_recognition.checkpoint import model_path
-from active_recognition.controller import AskView, Controller, End, Refuse, Step, Timing
-from active_recognition.node_params import RecognizerParameters
-from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
-    run_node
-from active_recognition.nodes.inputs import SensorSubscription
-from active_recognition.nodes.recognizer_action import RecognizeServer
-from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics, recorded_topics
-from active_recognition.nodes.recorder import Recorder
+from active_recognition.controller import Controller, Refuse, Timing
+from active_recognition.node_params import RecognizerParameters, changed
+from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, run_node
+from active_recognition.nodes.inputs import CameraInputs
+from active_recognition.nodes.recognize_server import RecognizeServer
+from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics
+from active_recognition.nodes.recorder import Recorder, recorded_topics
 from active_recognition.options import parameters
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig, least_top_score
+from active_recognition.recognizer import ActiveRecognizer, least_top_score
 from active_recognition.validation import InputError, group
 
 PARAMS = parameters(RecognizerParameters)  # name: options.Param (default, check, description)
 CHECKS = {name: param.check for name, param in PARAMS.items()}
-SENSING = tuple(f.name for f in fields(SensingConfig))
-TIMING = tuple(f.name for f in fields(Timing))
-QOS_CHECK_S = 1.0  # how often `image_qos: auto` looks at the publishers again
 DIAGNOSTICS_S = 1.0  # /diagnostics period
 SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FAILURE
 
@@ -59,12 +50,11 @@ class Recognizer(LifecycleNode):
         self.sensing = None               # sensing settings for the next episode
         self.goal_policy = "reject"       # a goal while another runs (configure)
         self.model_file = self.outputs = self.recorder = self.failure = None
-        self.inputs, self.timer, self.qos_checked = [], None, 0.0
-        self.refuse, self.told = Throttled(self.get_logger()), set()
+        self.inputs, self.timer = [], None
+        self.refuse = Throttled(self.get_logger())  # warnings per key; once() for information
         self.step_ms = deque(maxlen=10000)  # image in -> next view out, for benchmarks
-        self.add_on_set_parameters_callback(guarded(
-            self, self.on_parameters,
-            lambda params: SetParametersResult(successful=False, reason="internal error")))
+        self.add_on_set_parameters_callback(guarded(self, self.on_parameters, lambda params: SetParametersResult(
+            successful=False, reason="internal error")))
         self.create_service(Trigger, "~/reset", guarded(self, self.on_reset, self.reset_failed))
         self.action = RecognizeServer(self)  # the `recognize` action (where it can be had)
         # not a lifecycle publisher: a manager sees why configure failed (ERROR) and an idle node
@@ -97,10 +87,9 @@ class Recognizer(LifecycleNode):
                 self.get_logger().error(f"configure failed: {e}")
             return FAILURE
         self.sensing, self.goal_policy, self.failure = cfg.sensing, p["goal_policy"], None
-        self.loop = Controller(self.core, Timing(**{k: p[k] for k in TIMING}), p["frame_id"])
+        self.loop = Controller(self.core, changed(None, Timing(), p)[1], p["frame_id"])
         # the LabelInfo threshold: the least top score a recognised class has
-        self.outputs = Outputs(self, self.core.classes,
-                               least_top_score(p["entropy_threshold"], len(self.core.classes)))
+        self.outputs = Outputs(self, self.core.classes, least_top_score(p["entropy_threshold"], len(self.core.classes)))
         if p["record"]:
             self.recorder = Recorder(self, p["record"], recorded_topics())
             self.get_logger().info(f"recording the loop's topics to {self.recorder.path}")
@@ -111,24 +100,18 @@ class Recognizer(LifecycleNode):
         """Open the inputs, send the latched outputs; an episode paused by deactivate goes on
         (its view asked for again, its time without the pause)."""
         super().on_activate(state)  # the lifecycle publishers send from here
-        # info and pose first: when all three are ready at once, the executor takes them in order
-        self.inputs = [SensorSubscription(self, kind, topic, guarded(self, callback), self.image_qos)
-                       for kind, topic, callback in ((CameraInfo, "depth/camera_info", self.on_info),
-                                                     (PoseStamped, "camera/pose", self.on_pose),
-                                                     (Image, "depth/image", self.on_image))]
+        self.inputs = CameraInputs(self, *(guarded(self, f) for f in (self.on_info, self.on_pose, self.on_image)),
+                                   mode=self.image_qos)
         self.timer = self.create_timer(0.01, guarded(self, self.on_timer))
         self.outputs.latched()
-        self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, "
-                               f"planner {self.core.planner}")
+        self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, planner {self.core.planner}")
         self.apply(self.loop.resume(self.now()))
         return SUCCESS
 
     def on_deactivate(self, state):
         """Stop answering: inputs closed, no next_view; the episode waits for activate."""
         self.loop.pause(self.now())
-        for sub in self.inputs:
-            self.destroy_subscription(sub.sub)
-        self.inputs = []
+        self.inputs.close()
         self.destroy_timer(self.timer)
         return super().on_deactivate(state)
 
@@ -143,20 +126,14 @@ class Recognizer(LifecycleNode):
     def on_shutdown(self, state):
         if self.state == "active":
             self.on_deactivate(state)
-        if self.loop is not None:
-            self.on_cleanup(state)
-        return SUCCESS
+        return self.on_cleanup(state) if self.loop is not None else SUCCESS
 
     def on_diagnostics(self):
         self.pub_diagnostics.publish(diagnostics(self, self.now()))
 
     def close_recorder(self):
         if self.recorder is not None:
-            text = f"recorded {sum(self.recorder.counts.values())} messages to {self.recorder.close()}"
-            if self.context.ok():
-                self.get_logger().info(text)
-            else:  # after Ctrl-C the context is shut down: rosout cannot take the line, rcl says so
-                print(f"[{self.get_name()}]: {text}", file=sys.stderr)
+            self.recorder.close_logged()
             self.recorder = None
 
     def destroy_node(self):
@@ -164,26 +141,19 @@ class Recognizer(LifecycleNode):
         self.action.destroy()
         super().destroy_node()
 
-    def once(self, key, text, warn=False):
-        if key not in self.told:
-            self.told.add(key)
-            (self.get_logger().warn if warn else self.get_logger().info)(text)
-
     def on_parameters(self, params):
+        """Runtime changes: sensing from the next episode on, timing at once (unconfigured:
+        configure reads them). Each refusal is throttled apart: one hides no other."""
         values = {}
         try:
             for p in params:
-                name = p.name  # each parameter's refusals are throttled apart: one hides no other
-                values[name] = check_parameter(CHECKS, name, p.value)
-            if self.loop is None:  # unconfigured: configure reads them
-                return SetParametersResult(successful=True)
+                name, values[p.name] = p.name, check_parameter(CHECKS, p.name, p.value)
             name = "sensing"
-            sensing = replace(self.sensing, **{k: v for k, v in values.items() if k in SENSING})
+            if self.loop is not None:
+                self.sensing, self.loop.timing = changed(self.sensing, self.loop.timing, values)
         except InputError as e:
             self.refuse(f"parameter {name}", f"parameter refused: {e}")
             return SetParametersResult(successful=False, reason=str(e))
-        self.sensing = sensing
-        self.loop.timing = replace(self.loop.timing, **{k: v for k, v in values.items() if k in TIMING})
         return SetParametersResult(successful=True)
 
     # --- messages -> events ---------------------------------------------------------------
@@ -203,10 +173,7 @@ class Recognizer(LifecycleNode):
     def on_timer(self):
         if self.state != "active":
             return  # a tick already under way as the node deactivated
-        if time.monotonic() - self.qos_checked > QOS_CHECK_S:
-            self.qos_checked = time.monotonic()
-            for sub in self.inputs:
-                sub.follow()
+        self.inputs.follow()
         self.apply(self.loop.tick(self.now()))
 
     def on_info(self, msg):
@@ -232,39 +199,21 @@ class Recognizer(LifecycleNode):
             metres, refused = ma.image_to_metres(msg), None
         except ma.AdapterError as e:
             metres, refused = None, str(e)
-        self.apply(self.loop.image(self.now(), ma.stamp_seconds(msg.header.stamp), metres,
-                                   msg.header, arrived, refused))
+        self.apply(self.loop.image(self.now(), ma.stamp_seconds(msg.header.stamp), metres, msg.header,
+                                   arrived, refused))
 
     # --- commands -> messages -------------------------------------------------------------
 
     def apply(self, commands):
         for c in commands:
-            if isinstance(c, AskView):
-                self.outputs.view(self.pose(c))
-            elif isinstance(c, Step):
-                ms = (time.perf_counter() - c.arrived) * 1e3
-                self.step_ms.append(ms)
-                self.loop.health.step(self.now(), ms)
-                markers = ma.view_markers(self.core.views_taken(), self.core.standoff(self.loop.k),
-                                          self.loop.frame)
-                self.outputs.step(c.obs, c.header, markers)
-                self.action.feedback(c)
-            elif isinstance(c, End):
-                if not c.replaced:  # as before the action: a reset replaces an episode silently
-                    self.outputs.end(c)
-                self.action.ended(c)
-            elif isinstance(c, Refuse):
+            if isinstance(c, Refuse):
                 self.refuse(c.key, c.reason)
+            else:  # AskView, Step, End
+                self.outputs.send(c)
         if self.loop is not None:
             for key, text in self.loop.notes:
-                self.once(key, text)
+                self.refuse.once(key, text)
             self.loop.notes.clear()
-
-    def pose(self, ask):
-        """The PoseStamped of an AskView (an empty one for None)."""
-        if ask is None:
-            return PoseStamped()
-        return ma.position_to_pose(ask.position, ask.rotation, ask.frame, ma.seconds_to_stamp(ask.stamp))
 
 
 def main(args=None):

@@ -1,38 +1,26 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""What the recognizer publishes: its lifecycle publishers (today's topics and the vision_msgs
-ones, where vision_msgs can be had) and its /diagnostics status.
-
-The results go out twice: as before (probabilities, label, JSON result, latched class names) for
-the users who have them, and as vision_msgs (a Classification per classified image with the
-image's header, one at an episode's end, and the latched LabelInfo) for the tools of ROS's
-perception convention. Where vision_msgs cannot be imported the vision outputs are off and the
-node says so once.
-"""
+"""What the recognizer publishes, from the controller's commands: next_view, each classified
+image (today's topics, the vision_msgs Classification with the image's header, the action's
+feedback) and each episode's end (the JSON result, its Classification, the action's result);
+the latched class names and LabelInfo; its /diagnostics status. Without vision_msgs its outputs
+are off and the node says so once."""
 import json
+import time
 
-from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped
 from rclpy.qos import QoSDurabilityPolicy, QoSProfile
 from std_msgs.msg import Float32MultiArray, Header, String
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.controller import Timing
+from active_recognition.controller import AskView, End, Step
 from active_recognition.health import Health
-from active_recognition.nodes.recorder import RELIABLE, TOPICS, vision_topics
+from active_recognition.nodes.recorder import vision_topics
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
-VISION_TOPICS = ("recognition/classification", "recognition/result/classification",
-                 "recognition/label_info")
 INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_tolerance")  # refusals
-IMAGE_COUNTS = ("received", "classified", "empty", "stale")
-
-
-def recorded_topics():
-    """Every topic of the loop, the vision_msgs ones where they can be had, and /diagnostics."""
-    return {**TOPICS, **vision_topics(), "/diagnostics": (DiagnosticArray, RELIABLE)}
 
 
 class Outputs:
@@ -52,8 +40,8 @@ class Outputs:
             for name, (kind, _) in vision_topics().items():
                 self.pubs[name] = make(kind, name, LATCHED if name.endswith("label_info") else 10)
         else:
-            node.once("vision_msgs", f"vision_msgs outputs off ({', '.join(VISION_TOPICS)}): "
-                                     f"{ma.VISION_MSGS_MISSING}", warn=True)
+            node.refuse.once("vision_msgs", "vision_msgs outputs off (recognition/classification, recognition/"
+                             f"result/classification, recognition/label_info): {ma.VISION_MSGS_MISSING}", warn=True)
 
     def destroy(self):
         for pub in self.pubs.values():
@@ -66,17 +54,30 @@ class Outputs:
         if self.vision:
             self.pubs["recognition/label_info"].publish(ma.label_info(self.classes, self.threshold))
 
-    def view(self, msg):
-        self.pubs["view"].publish(msg)
+    def send(self, c):
+        """Publish a command of the controller: AskView, Step or End."""
+        if isinstance(c, AskView):
+            self.pubs["view"].publish(pose(c))
+        elif isinstance(c, Step):
+            self.step(c)
+        elif isinstance(c, End):
+            if not c.replaced:  # as before the action: a reset replaces an episode silently
+                self.end(c)
+            self.node.action.ended(c)
 
-    def step(self, obs, header, markers):
-        """A classified image's probabilities, label, views so far and Classification."""
-        self.pubs["probabilities"].publish(ma.probabilities_to_msg(obs.probs))
-        self.pubs["label"].publish(String(data=obs.label))
-        self.pubs["markers"].publish(markers)
+    def step(self, c):
+        """A classified image's probabilities, label, views so far, Classification, feedback."""
+        node, ms = self.node, (time.perf_counter() - c.arrived) * 1e3
+        node.step_ms.append(ms)
+        node.loop.health.step(node.now(), ms)
+        self.pubs["probabilities"].publish(ma.probabilities_to_msg(c.obs.probs))
+        self.pubs["label"].publish(String(data=c.obs.label))
+        self.pubs["markers"].publish(ma.view_markers(node.core.views_taken(), node.core.standoff(node.loop.k),
+                                                     node.loop.frame))
         if self.vision:
-            self.pubs["recognition/classification"].publish(
-                ma.classification(obs.probs, self.classes, header))
+            self.pubs["recognition/classification"].publish(ma.classification(c.obs.probs, self.classes,
+                                                                              c.header))
+        node.action.feedback(c)
 
     def end(self, end):
         """Publish the JSON result and the Classification of an episode that ended."""
@@ -97,29 +98,29 @@ class Outputs:
         return ma.unknown_classification(header)
 
 
+def pose(ask):
+    """The PoseStamped of a controller.AskView (an empty one for None)."""
+    if ask is None:
+        return PoseStamped()
+    return ma.position_to_pose(ask.position, ask.rotation, ask.frame, ma.seconds_to_stamp(ask.stamp))
+
+
 def diagnostics(node, now):
     """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is its clock's seconds."""
-    loop, state = node.loop, node.state
-    health = loop.health if loop is not None else Health()
-    health.error = str(node.failure) if node.failure is not None else None
-    timing = loop.timing if loop is not None else Timing()
-    level, message = health.level(now, timing.view_timeout, state == "active", state)
-    values = {"state": state, "model": node.model_file or "", "model loaded": node.core is not None}
-    if node.core is not None:
-        values.update({"classes": len(node.core.classes), "planner": node.core.planner})
-    values["image_qos"] = node.image_qos
-    values.update({f"{sub.topic} reliability": sub.reliability for sub in node.inputs})
-    values.update(health.values(now))
-    counts = loop.counts if loop is not None else {}
-    values.update({f"images {key}": counts.get(key, 0) for key in IMAGE_COUNTS})
-    values.update({"requests resent": counts.get("resent", 0),
-                   "views unreachable": counts.get("unreachable", 0)})
+    state, loop = node.state, node.loop
+    if loop is not None:
+        level, message, values = loop.report(now, state == "active", state)
+    else:  # unconfigured: an error where configure failed
+        health = Health()
+        health.error = None if node.failure is None else str(node.failure)
+        (level, message), values = health.level(now, 1.0, False, state), {}
+    values = {"state": state, "model": node.model_file or "", "model loaded": node.core is not None,
+              **({"classes": len(node.core.classes), "planner": node.core.planner} if node.core else {}),
+              "image_qos": node.image_qos,
+              **{f"{sub.topic} reliability": sub.reliability for sub in node.inputs}, **values}
     refused = node.refuse.counts
     values.update({f"refused {key}": refused.get(key, 0) for key in INPUT_KEYS})
-    values.update({f"refused {key}": n for key, n in sorted(refused.items())
-                   if key.startswith("parameter ")})
-    values.update({"view_timeout (s)": timing.view_timeout,
-                   "episode_timeout (s)": timing.episode_timeout})
-    name = f"{node.get_fully_qualified_name().lstrip('/')}: recognition"
-    status = ma.diagnostic_status(name, level, message, values)
+    values.update({f"refused {key}": n for key, n in sorted(refused.items()) if key.startswith("parameter ")})
+    status = ma.diagnostic_status(f"{node.get_fully_qualified_name().lstrip('/')}: recognition", level,
+                                  message, values)
     return ma.diagnostic_array([status], node.get_clock().now().to_msg())

@@ -8,6 +8,7 @@ type's complete ros2msg definition (msg_adapters.definitions), so rosbag2, Foxgl
 readers decode the file without this package. The file is written under a temporary name beside
 the target and renamed into place when the recorder closes.
 """
+import sys
 import threading
 import time
 from collections import Counter
@@ -54,6 +55,14 @@ def vision_topics():
     return {"recognition/classification": (Classification, RELIABLE),
             "recognition/result/classification": (Classification, RELIABLE),
             "recognition/label_info": (LabelInfo, LATCHED)}
+
+
+def recorded_topics():
+    """Every topic of the recognizer's loop, the vision_msgs ones where they can be had, and
+    /diagnostics."""
+    from diagnostic_msgs.msg import DiagnosticArray
+
+    return {**TOPICS, **vision_topics(), "/diagnostics": (DiagnosticArray, RELIABLE)}
 
 
 def type_name(kind):
@@ -133,6 +142,15 @@ class Recorder:
         """Whether nothing has arrived for `seconds`: what was published before has been written
         (a demo spins until this before it closes the file, so the last episode's end is in it)."""
         return time.monotonic() - self.last >= seconds
+
+    def close_logged(self):
+        """close(), and say so in the node's log (on stderr after Ctrl-C, when the context is
+        shut down and rosout cannot take the line); returns None."""
+        text = f"recorded {sum(self.counts.values())} messages to {self.close()}"
+        if self.node.context.ok():
+            self.node.get_logger().info(text)
+        else:
+            print(f"[{self.node.get_name()}]: {text}", file=sys.stderr)
 
     def close(self):
         """Finish the file and move it into place; returns its path."""

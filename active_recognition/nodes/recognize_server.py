@@ -13,7 +13,7 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.task import Future
 
 import msg_adapters as ma
-from active_recognition.episode import MAX_VIEWS
+from active_recognition.nodes.recognizer_outputs import pose
 from active_recognition.validation import InputError
 
 try:
@@ -29,8 +29,8 @@ class RecognizeServer:
         # running: goal id (bytes; the controller's goal) -> (its handle, a Future of its End)
         self.node, self.running, self.server = node, {}, None
         if Recognize is None:
-            node.once("action", f"the recognize action is off: {MISSING} (bash "
-                                f"tools/build_interfaces.sh builds it)", warn=True)
+            node.refuse.once("action", f"the recognize action is off: {MISSING} (bash "
+                                       f"tools/build_interfaces.sh builds it)", warn=True)
             return
         self.server = ActionServer(node, Recognize, "recognize", self.execute,
                                    goal_callback=self.on_goal, cancel_callback=self.on_cancel)
@@ -46,11 +46,7 @@ class RecognizeServer:
         try:
             if node.state != "active":
                 raise InputError(f"the node is {node.state}: activate it first")
-            if not (goal.object_size == 0 or 1e-3 <= goal.object_size <= 100):
-                raise InputError(f"object_size must be 0 (the node's) or 0.001 to 100 m, got "
-                                 f"{goal.object_size}")
-            if goal.max_views > MAX_VIEWS:
-                raise InputError(f"max_views must be 0 (the node's) to {MAX_VIEWS}, got {goal.max_views}")
+            node.loop.check_goal(goal.object_size, goal.max_views)
             if self.running and node.goal_policy == "reject":
                 raise InputError("another goal is running (goal_policy: reject)")
         except InputError as e:
@@ -87,7 +83,7 @@ class RecognizeServer:
             self.running[step.goal][0].publish_feedback(Recognize.Feedback(
                 views=step.obs.views, classification=ma.classification(
                     step.obs.probs, self.node.core.classes, step.header),
-                next_view=self.node.pose(step.next_view), travel=step.travel, elapsed=step.elapsed))
+                next_view=pose(step.next_view), travel=step.travel, elapsed=step.elapsed))
 
     def ended(self, end):
         _, done = self.running.pop(end.goal, (None, None))
