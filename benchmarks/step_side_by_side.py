@@ -1,0 +1,81 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""The recognizer's 640x480 step p50 (image received -> next view published; ros_latency.py's
+closed loop with the RealSense preset) of this checkout against another one, side by side:
+runs alternate between the two, each in a process of its own, and the figure is the ratio of
+their medians. Make the other checkout with `git worktree add DIR COMMIT`.
+
+    python benchmarks/step_side_by_side.py --base DIR [--runs 3 --episodes 10]
+
+Last line is JSON, also written to --out when given."""
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+from common import emit
+
+from active_recognition.report import write_json
+
+ROOT = Path(__file__).resolve().parents[1]
+ONE_RUN = """
+import json, sys
+root = sys.argv[1]
+sys.path[:0] = [root + "/benchmarks", root]
+import numpy as np
+import active_recognition, ros_latency
+assert active_recognition.__file__.startswith(root), active_recognition.__file__
+_, steps = ros_latency.closed_loop(int(sys.argv[2]), ros_latency.VGA)
+print(json.dumps(float(np.percentile(steps, 50))))
+"""
+
+
+def step_p50(root, episodes):
+    env = {**os.environ, "PYTHONPATH": str(root), "OMP_NUM_THREADS": "1"}
+    done = subprocess.run([sys.executable, "-c", ONE_RUN, str(root), str(episodes)], env=env,
+                          capture_output=True, text=True, timeout=1200)
+    if done.returncode != 0:
+        raise SystemExit(f"step_side_by_side: the run in {root} failed:\n{done.stderr[-2000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def cpu():
+    """lscpu's model name and its vector flags, for the figures' machine."""
+    info = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
+    lines = dict(line.split(":", 1) for line in info.splitlines() if ":" in line)
+    flags = [f for f in lines.get("Flags", "").split() if f.startswith(("avx", "fma"))]
+    return f"{lines.get('Model name', platform.processor()).strip()} ({', '.join(flags)})"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--base", required=True, help="the other checkout (git worktree add DIR COMMIT)")
+    ap.add_argument("--runs", type=int, default=3, help="runs of each, alternating")
+    ap.add_argument("--episodes", type=int, default=10, help="10-view episodes a run")
+    ap.add_argument("--out", help="JSON of the figures")
+    args = ap.parse_args()
+    base = Path(args.base).resolve()
+    if not (base / "benchmarks" / "ros_latency.py").exists():
+        raise SystemExit(f"step_side_by_side: {base} is not a checkout of this project")
+    runs = {"base": [], "this": []}
+    for _ in range(args.runs):
+        runs["base"].append(step_p50(base, args.episodes))
+        runs["this"].append(step_p50(ROOT, args.episodes))
+        print(f"base {runs['base'][-1]:.2f} ms, this {runs['this'][-1]:.2f} ms", flush=True)
+    rev = subprocess.run(["git", "-C", str(base), "rev-parse", "--short", "HEAD"], capture_output=True,
+                         text=True).stdout.strip()
+    out = {"base": rev, "machine": cpu(), "episodes": args.episodes,
+           "base_step_ms_p50": runs["base"], "this_step_ms_p50": runs["this"],
+           "ratio_of_medians": float(np.median(runs["this"]) / np.median(runs["base"]))}
+    if args.out:
+        write_json(args.out, out)
+    emit(out)
+
+
+if __name__ == "__main__":
+    main()
