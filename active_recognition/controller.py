@@ -3,19 +3,14 @@
 
 """The recognizer node's episode loop, without ROS: timestamped events in, commands out.
 
-The node turns each message into an event (an image, a camera_info, a pose, a tick of its
-timer, a start from ~/reset or a goal, a cancel, a pause and a resume from its lifecycle) and
-each command back into messages: ask for a view (`next_view`), publish a step (the
-classification of an image), end an episode with its status, refuse an input with its reason.
-Every time is the caller's clock in seconds (the node's ROS clock; tests a simulated one), the
-one clock of the image and pose stamps, so a test drives the whole loop without rclpy.
-
-States: idle (no episode), waiting (a view asked for), classifying (an image waits for the
-pose of its stamp), paused (the node inactive), ended (until the next start).
-A request no usable image answers within view_timeout is sent again max_retries times, then its
-view is given up for another (the episode ends no_image when none can be had); an episode
-still under way episode_timeout after its start (the pauses not counted) ends with timeout.
-"""
+Events: an image, a camera_info, a pose, a tick of the node's timer, a start (~/reset, a goal),
+a cancel, a pause and a resume (its lifecycle). Commands: ask for a view (`next_view`), publish a
+step (an image's classification), end an episode with its status, refuse an input with its
+reason. Times are the caller's clock in seconds (the node's ROS clock, that of the stamps; a
+test's simulated one). States: idle, waiting (a view asked for), classifying (an image waits for
+its pose), paused (the node inactive), ended. An unanswered request is sent again max_retries
+times, then its view is given up for another (no view left: no_image); an episode still under
+way episode_timeout after its start (pauses not counted) ends with timeout."""
 from __future__ import annotations
 
 from collections import Counter, deque
@@ -25,78 +20,54 @@ from typing import Any
 import numpy as np
 
 from . import plausible
+from .commands import AskView, End, Refuse, Step
 from .episode import MAX_VIEWS
 from .geometry import Intrinsics, travel
 from .health import Health
-from .validation import InputError
+from .validation import InputError, option, validate
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
-IMAGE_COUNTS = ("received", "classified", "empty", "stale")  # reported as "images <count>"
+IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
 
 
 @dataclass
 class Timing:
-    """The node parameters that time the loop (node_params.NodeConfig, runtime ones)."""
+    """How the loop waits: node parameters (node_params nests them), all but one changeable at
+    run time."""
 
-    view_timeout: float = 3.0
-    max_retries: int = 1
-    pose_tolerance: float = 0.05
-    episode_timeout: float = 60.0
-    max_clock_offset: float = 5.0
-    require_fresh_images: bool = True
+    require_fresh_images: bool = option(True, help="ignore images stamped before the last "
+                                                   "next_view request")
+    pose_tolerance: float = option(0.05, lo=0, hi=60, runtime=True, help=(
+        "seconds: the camera pose nearest an image's stamp within this is its pose"))
+    # measured: docs/results/pose_wait.json (how late poses come behind their image)
+    pose_wait: float = option(1.5, lo=0, hi=60, runtime=True, help=(
+        "seconds an image waits for its measured pose (camera/pose, or its transform with "
+        "pose_source: tf); after it the image is taken at the view asked for (topic) or refused (tf)"))
+    view_timeout: float = option(3.0, lo=0.01, hi=3600, runtime=True, help=(
+        "seconds: a next_view that no usable image answers within this is sent again"))
+    max_retries: int = option(1, lo=0, hi=100, runtime=True, help=(
+        "resends of one view; when they go unanswered too the view is unreachable and the "
+        "planner picks another"))
+    max_clock_offset: float = option(5.0, lo=0.001, hi=86400, runtime=True, help=(
+        "seconds: images and poses stamped further than this from the node's clock are refused "
+        "(another clock; a replay without use_sim_time)"))
+    episode_timeout: float = option(60.0, lo=0.1, hi=86400, runtime=True, help=(
+        "seconds: an episode still under way this long after its start ends with status "
+        "timeout and the best guess so far (60 s: each of 10 views taking both its tries of 3 s)"))
 
-
-@dataclass(frozen=True)
-class AskView:
-    """Publish next_view: the camera pose (metres, optical rotation) in `frame`, stamped `stamp`."""
-
-    position: np.ndarray
-    rotation: np.ndarray
-    frame: str
-    stamp: float
-    again: bool  # the same view once more (a resend, or after an empty image)
-
-
-@dataclass(frozen=True)
-class Step:
-    """Publish a classified image: its Observation, with the image's header and arrival."""
-
-    obs: Any                 # recognizer.Observation
-    header: Any              # the image's (the node's message header; opaque here)
-    arrived: float           # the caller's mark of the image's arrival (its step latency)
-    next_view: AskView | None  # the request that follows it, None when the episode ends
-    travel: float            # radians turned about the object between the views so far
-    elapsed: float           # seconds since the start, pauses not counted
-    goal: Any
-
-
-@dataclass(frozen=True)
-class End:
-    """An episode ended: publish its result (a status of recognizer.Observation, or canceled)."""
-
-    obs: Any
-    header: Any              # the last classified image's, None when none was
-    result: dict             # recognition/result's JSON fields, travel and elapsed among them
-    goal: Any                # the goal it answers (None: ~/reset)
-    replaced: bool = False   # canceled by the start of another (recognition/result stays silent)
-
-
-@dataclass(frozen=True)
-class Refuse:
-    """An input refused (counted under `key`; the node logs `reason`, throttled per key)."""
-
-    key: str
-    reason: str
+    def __post_init__(self):
+        validate(self)
 
 
 @dataclass
 class Pending:
-    """An image waiting for the camera pose of its stamp."""
+    """An image waiting for the camera pose of its stamp (since: when the wait began; a newer
+    image keeps it)."""
 
     stamp: float
     metres: np.ndarray
     k: Intrinsics | None
-    since: float   # when the wait began (a newer image keeps it)
+    since: float
     arrived: float
     header: Any
 
@@ -111,11 +82,14 @@ class Controller:
         self.k, self.info_refused = None, None  # the latest camera_info, or why it was refused
         self.poses = deque(maxlen=200)          # (stamp, position, optical rotation)
         self.expect_poses = True                # until an image has waited in vain for its pose
+        self.require_pose = False               # an image without its measured pose is refused (TF)
+        self.pose_from = "camera/pose"          # where the poses come from, for the refusals
         self.pending, self.request = None, None  # Pending; the request's stamp
         self.asked_at, self.tries = None, 0     # when the view was (last) asked for; how often
         self.started = self.paused_at = None
         self.paused_for, self.resumed_state = 0.0, None
         self.counts, self.health = Counter(), Health()
+        self.waited = deque(maxlen=1000)        # seconds images waited for their measured poses
         self.notes = []                         # one-off information the node logs once
 
     # --- events -----------------------------------------------------------------------------
@@ -189,6 +163,7 @@ class Controller:
         if self.state == CLASSIFYING:
             found = self.pose_at(self.pending.stamp)
             if found is not None:
+                self.waited.append(now - self.pending.since)
                 return self.classify(now, found)
         return []
 
@@ -224,7 +199,7 @@ class Controller:
         since = self.pending.since if self.pending is not None else now
         self.pending = Pending(stamp, metres, k, since, now if arrived is None else arrived, header)
         found = self.pose_at(stamp)
-        if found is None and self.expect_poses:  # its pose may still be on its way
+        if found is None and (self.expect_poses or self.require_pose):  # it may still be on its way
             # a newer image replaces the waiting one but not its wait: with no poses at all, a
             # 30 Hz camera would otherwise restart the wait forever
             self.state = CLASSIFYING
@@ -236,17 +211,23 @@ class Controller:
         if not self.running or self.state == PAUSED:
             return []
         out = []
-        if self.state == CLASSIFYING and now - self.pending.since > self.timing.pose_tolerance:
+        if self.state == CLASSIFYING and now - self.pending.since > self.timing.pose_wait:
             found = self.pose_at(self.pending.stamp, final=True)
-            if not self.poses:
+            if found is None and self.require_pose:
+                self.pending, self.state = None, WAITING
+                out += self.reject(now, f"no {self.pose_from} for its stamp within pose_wait "
+                                        f"({self.timing.pose_wait:g} s)")
+            elif not self.poses:
                 self.expect_poses = False
                 self.note("pose", "no camera/pose received: assuming each image is taken at the "
                                   "requested view")
             elif found is None:
-                out.append(Refuse("pose_tolerance", f"no camera/pose within pose_tolerance "
-                                                    f"({self.timing.pose_tolerance} s) of the "
-                                                    f"image: assuming the requested view"))
-            out += self.classify(now, found)
+                out.append(Refuse("pose_wait", f"no camera/pose within pose_tolerance "
+                                               f"({self.timing.pose_tolerance:g} s) of the image's "
+                                               f"stamp came within pose_wait ({self.timing.pose_wait:g} "
+                                               f"s): assuming the requested view"))
+            if self.state == CLASSIFYING:
+                out += self.classify(now, found)
         if self.running and self.elapsed(now) > self.timing.episode_timeout:
             self.pending = None
             out.append(Refuse("episode_timeout", f"the episode ran past episode_timeout "
@@ -268,6 +249,9 @@ class Controller:
         """(level, message, values) of the loop for /diagnostics: its health, counts and timing."""
         level, message = self.health.level(now, self.timing.view_timeout, active, state)
         values = {**self.health.values(now), **{f"images {k}": self.counts[k] for k in IMAGE_COUNTS},
+                  "images matched to a measured pose (%)": 100.0 * self.counts["matched"] / max(
+                      self.counts["classified"], 1),
+                  "pose wait p99 (ms)": float(np.percentile(self.waited, 99)) * 1e3 if self.waited else "none",
                   "requests resent": self.counts["resent"],
                   "views unreachable": self.counts["unreachable"],
                   "view_timeout (s)": self.timing.view_timeout,
@@ -333,6 +317,7 @@ class Controller:
         out = []
         if obs.status != "no_object":
             self.counts["classified"] += 1
+            self.counts["matched"] += found is not None  # to its measured pose
             self.header = p.header
             ask = None if obs.done else self.ask(now)
             out += [ask] if ask is not None else []

@@ -25,6 +25,7 @@ QOS_MODES = ("auto", "reliable", "sensor_data")
 SENSING_NAMES = frozenset(f.name for f in fields(SensingConfig))
 TIMING_NAMES = frozenset(f.name for f in fields(Timing))
 GOAL_POLICIES = ("reject", "preempt")
+POSE_SOURCES = ("topic", "tf")
 CAMERA_QOS = ("sensor_data", "reliable")
 
 
@@ -42,31 +43,21 @@ class NodeConfig:
                                                   "evenly spread)")
     frame_id: str = option("object", length=(1, None), help=(
         "frame of next_view: the object's, origin at its box's centre, z up"))
-    require_fresh_images: bool = option(True, help="ignore images stamped before the last "
-                                                   "next_view request")
-    pose_tolerance: float = option(0.05, lo=0, hi=60, runtime=True, help=(
-        "seconds: the camera/pose nearest an image's stamp within this is its pose; an image "
-        "waits this long for a late pose"))
     image_qos: str = option("auto", choices=QOS_MODES, help=(
         "reliability of depth/image, depth/camera_info, camera/pose (keep-last 1): auto = what "
         "their publishers offer (reliable if all of them do; followed when they change), "
         "reliable, or sensor_data (best effort). Best-effort frames over 512 kB from another "
         "process need config/fastdds_large_frames.xml on the camera's side"))
-    view_timeout: float = option(3.0, lo=0.01, hi=3600, runtime=True, help=(
-        "seconds: a next_view that no usable image answers within this is sent again"))
-    max_retries: int = option(1, lo=0, hi=100, runtime=True, help=(
-        "resends of one view; when they go unanswered too the view is unreachable and the "
-        "planner picks another"))
-    max_clock_offset: float = option(5.0, lo=0.001, hi=86400, runtime=True, help=(
-        "seconds: images and poses stamped further than this from the node's clock are refused "
-        "(another clock; a replay without use_sim_time)"))
     record: str = option("", help=(
         "an .mcap file: every topic of the loop is recorded to it from start to shutdown "
         "(written as a temporary file beside it and renamed on shutdown); ros2 bag play and "
         "Foxglove read it. Empty = off"))
-    episode_timeout: float = option(60.0, lo=0.1, hi=86400, runtime=True, help=(
-        "seconds: an episode still under way this long after its ~/reset ends with status "
-        "timeout and the best guess so far (60 s: each of 10 views taking both its tries of 3 s)"))
+    pose_source: str = option("topic", choices=POSE_SOURCES, help=(
+        "where each image's camera pose comes from: topic (camera/pose, stamped like the image) "
+        "or tf (the transform from the image's frame_id to the object frame at its stamp)"))
+    planning_frame: str = option("", help=(
+        "frame next_view is published in (a motion planner's, e.g. world), through TF; empty = "
+        "the object frame"))
     goal_policy: str = option("reject", choices=GOAL_POLICIES, help=(
         "a recognize goal that comes while another runs: reject (the running one goes on) or "
         "preempt (the running one ends canceled, its goal aborted); ~/reset always preempts"))
@@ -83,6 +74,7 @@ class RecognizerParameters:
     """Every parameter of the recognizer node."""
 
     node: NodeConfig = nested(NodeConfig, flat=True)
+    timing: Timing = nested(Timing, flat=True)
     episode: EpisodeConfig = nested(EpisodeConfig, flat=True)
     sensing: SensingConfig = nested(SensingConfig, flat=True, runtime=True)
     # a robot sees an object on a floor or a table from above its centre
@@ -125,12 +117,37 @@ class CameraNodeConfig:
 
 
 @dataclass
+class CameraFrames:
+    """Where the simulated camera says it is: camera/pose, TF, or both."""
+
+    publish_pose: bool = option(True, help="publish camera/pose with each image")
+    publish_tf: bool = option(False, help=(
+        "broadcast the camera's optical frame (frame_id) on TF with each image, stamped like it, "
+        "relative to world_frame if set, else to object_frame"))
+    object_frame: str = option("object", length=(1, None), help=(
+        "the object's frame: requests in it are taken as they are"))
+    world_frame: str = option("", help=(
+        "a world frame the object stands in at object_x/y/z/yaw (a static transform on TF): "
+        "requests in it are moved into the object frame; empty = none"))
+    object_x: float = option(0.0, lo=-1000, hi=1000, help="metres: the object frame's origin in world_frame")
+    object_y: float = option(0.0, lo=-1000, hi=1000, help="metres")
+    object_z: float = option(0.0, lo=-1000, hi=1000, help="metres")
+    object_yaw: float = option(0.0, lo=-360, hi=360, help="degrees: the object frame turned about world z")
+    tf_delay: float = option(0.0, lo=0, hi=10, help=(
+        "seconds the camera's transform is broadcast after its image (a slow TF publisher)"))
+
+    def __post_init__(self):
+        validate(self)
+
+
+@dataclass
 class SimulatedCameraParameters:
     """Every parameter of the simulated camera node; the sensor's default to the model's own
     virtual camera (demo --camera realsense sets simulated_camera.PRESETS['realsense'])."""
 
     source: ObjectSource = nested(ObjectSource, flat=True, runtime=True)
     node: CameraNodeConfig = nested(CameraNodeConfig, flat=True)
+    frames: CameraFrames = nested(CameraFrames, flat=True)
     sensor: SensorConfig = nested(SensorConfig, flat=True)
 
     def __post_init__(self):
@@ -139,7 +156,7 @@ class SimulatedCameraParameters:
 
 def changed(sensing, timing, values):
     """(sensing, timing) with the parameters in `values` ({name: checked value}) that belong to
-    each (SensingConfig's; controller.Timing's) changed; sensing None stays None."""
+    each (SensingConfig's; controller.Timing's) changed."""
     def update(config, keys):
         return replace(config, **{k: v for k, v in values.items() if k in keys})
-    return (None if sensing is None else update(sensing, SENSING_NAMES), update(timing, TIMING_NAMES))
+    return update(sensing, SENSING_NAMES), update(timing, TIMING_NAMES)

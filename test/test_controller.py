@@ -23,7 +23,7 @@ def core():
 def loop(core):
     core.rng, core.sensing = np.random.default_rng(0), SensingConfig()
     return Controller(core, Timing(view_timeout=3.0, max_retries=1, pose_tolerance=0.05,
-                                   episode_timeout=60.0))
+                                   pose_wait=0.05, episode_timeout=60.0))
 
 
 @pytest.fixture(scope="module")
@@ -108,7 +108,7 @@ def test_a_late_pose_is_waited_for_and_used(loop, camera):
     ask = loop.start(0.0, sensing=SensingConfig(recentre=0.0))[0]  # about the frame's centre
     metres, position, rotation = camera.capture(*geometry_turned(ask))
     assert loop.image(0.2, ask.stamp, metres, header="h") == [] and loop.state == "classifying"
-    assert loop.tick(0.22) == []  # within pose_tolerance of its arrival: still waiting
+    assert loop.tick(0.22) == []  # within pose_wait of its arrival: still waiting
     out = loop.pose(0.23, "object", ask.stamp, position, rotation)
     assert kinds(out) == ["AskView", "Step"]
     taken = loop.core.views_taken()[0]
@@ -129,7 +129,24 @@ def test_a_pose_that_never_comes_is_given_up_after_the_tolerance(loop, camera):
     metres, _, _ = camera.capture(ask.position, ask.rotation)
     assert loop.image(0.1, ask.stamp, metres) == []
     out = loop.tick(0.16)
-    assert kinds(out) == ["Refuse", "AskView", "Step"] and out[0].key == "pose_tolerance"
+    assert kinds(out) == ["Refuse", "AskView", "Step"] and out[0].key == "pose_wait"
+    assert loop.counts["classified"] == 1 and loop.counts["matched"] == 0
+
+
+def test_with_poses_required_an_image_without_one_is_refused_and_asked_again(loop, camera):
+    loop.require_pose, loop.pose_from = True, "transform object <- camera"
+    ask = loop.start(0.0)[0]
+    metres, position, rotation = camera.capture(ask.position, ask.rotation)
+    assert loop.image(0.1, ask.stamp, metres) == [] and loop.tick(0.14) == []
+    out = loop.tick(0.16)  # past pose_wait: refused by name, no step
+    assert kinds(out) == ["Refuse"] and out[0].key == "depth/image"
+    assert "no transform object <- camera for its stamp within pose_wait" in out[0].reason
+    assert loop.state == "waiting" and loop.core.episode.steps == 0
+    again = loop.tick(3.1)  # the view asked again after view_timeout
+    assert kinds(again) == ["Refuse", "AskView"] and again[1].again
+    assert loop.image(3.2, again[1].stamp, metres) == []
+    out = loop.pose(3.3, "object", again[1].stamp, position, rotation)  # its transform, late
+    assert kinds(out) == ["AskView", "Step"] and loop.counts["matched"] == 1
 
 
 def test_a_pause_stops_the_clock_and_a_resume_asks_the_view_again(loop, camera):

@@ -14,15 +14,30 @@
 # so the type support is found with nothing to source. A package that is up to date (the same
 # sources, the same Python) is skipped, and so is one that imports and was not built here (a ROS
 # install). Needs cmake (>= 3.21) and a C and C++ compiler.
+#
+# Then tf2 (tf2, tf2_msgs, tf2_py, tf2_ros_py: no wheel holds them; `pose_source: tf` needs
+# tf2_ros) from ROS 2 Jazzy's geometry2 sources, with colcon, into the same prefix: from the
+# checkout --geometry2 DIR names, else from ../shared/deps/geometry2-jazzy-tf2.tar.gz beside
+# this repository; skipped when tf2_ros imports already (a ROS install), and said so when no
+# source can be had (the node runs on `pose_source: topic` without it).
+#
+#   bash tools/build_interfaces.sh [--force] [--geometry2 DIR]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 python=${PYTHON:-python3}
 force=0
-for arg in "$@"; do
-  case $arg in
+geometry2=""
+archive=$root/../shared/deps/geometry2-jazzy-tf2.tar.gz
+while [ $# -gt 0 ]; do
+  case $1 in
     --force) force=1 ;;
-    *) echo "build_interfaces: unknown argument '$arg' (usage: $0 [--force])" >&2; exit 2 ;;
+    --geometry2) [ $# -ge 2 ] || { echo "build_interfaces: --geometry2 needs a folder" >&2; exit 2; }
+                 geometry2=$(cd "$2" 2>/dev/null && pwd) \
+                   || { echo "build_interfaces: --geometry2 $2: no such folder" >&2; exit 2; }
+                 shift ;;
+    *) echo "build_interfaces: unknown argument '$1' (usage: $0 [--force] [--geometry2 DIR])" >&2; exit 2 ;;
   esac
+  shift
 done
 
 prefix=$("$python" -c 'import sys; print(sys.prefix)')
@@ -72,3 +87,48 @@ build() {
 
 build vision_msgs vision_msgs.msg
 build active_recognition_interfaces active_recognition_interfaces.action
+
+# tf2 from geometry2's sources (a checkout, else the archive), with colcon, merged into the prefix
+build_tf2() {
+  local build=$root/build/tf2 stamp=$prefix/share/tf2_ros_py/active_recognition.stamp sum start src
+  if [ -n "$geometry2" ]; then
+    src=$geometry2
+  elif [ -f "$archive" ]; then
+    src=$archive
+  fi
+  if [ ! -f "$stamp" ] && "$python" -c "import tf2_ros" 2>/dev/null; then
+    echo "build_interfaces: tf2_ros is installed already; nothing to build"
+    return
+  fi
+  if [ -z "${src:-}" ]; then
+    echo "build_interfaces: tf2 not built: no geometry2 source (--geometry2 DIR, a checkout of" \
+         "ros2/geometry2 branch jazzy, or $archive); pose_source: tf needs it"
+    return
+  fi
+  sum=$( (if [ -d "$src" ]; then (cd "$src" && find tf2 tf2_msgs tf2_py tf2_ros_py -type f | sort | xargs cat); \
+          else cat "$src"; fi; cat "$root"/tools/build_interfaces.sh; "$python" -VV) | sha256sum | cut -d' ' -f1)
+  if [ "$force" = 0 ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$sum" ] && "$python" -c "import tf2_ros" 2>/dev/null; then
+    echo "build_interfaces: tf2 up to date in $prefix"
+    return
+  fi
+  local colcon
+  colcon=$(dirname "$executable")/colcon
+  [ -x "$colcon" ] || { echo "build_interfaces: tf2 needs colcon (pip install -e '.[ros,test]')" >&2; exit 1; }
+  rm -rf "$build" && mkdir -p "$build/src"
+  if [ -d "$src" ]; then
+    cp -r "$src"/tf2 "$src"/tf2_msgs "$src"/tf2_py "$src"/tf2_ros_py "$build/src/"
+  else
+    tar xzf "$src" -C "$build/src"
+  fi
+  start=$(date +%s)
+  (cd "$build" && "$colcon" --log-base log build --base-paths src --build-base colcon \
+     --packages-select tf2_msgs tf2 tf2_py tf2_ros_py --merge-install --install-base "$prefix" \
+     --cmake-args -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DPython3_EXECUTABLE="$executable" \
+       -DCMAKE_PROJECT_INCLUDE="$root/tools/interfaces_wheels.cmake" >build.log 2>&1) \
+    || { tail -40 "$build/build.log" >&2; echo "build_interfaces: tf2 failed; the log: $build/build.log" >&2; exit 1; }
+  echo "$sum" >"$stamp"
+  "$python" -c "import tf2_ros" || { echo "build_interfaces: tf2 built, but tf2_ros does not import" >&2; exit 1; }
+  echo "build_interfaces: tf2 built in $(($(date +%s) - start)) s into $prefix"
+}
+
+build_tf2

@@ -13,7 +13,6 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.task import Future
 
 import msg_adapters as ma
-from active_recognition.nodes.recognizer_outputs import pose
 from active_recognition.validation import InputError
 
 try:
@@ -83,7 +82,7 @@ class RecognizeServer:
             self.running[step.goal][0].publish_feedback(Recognize.Feedback(
                 views=step.obs.views, classification=ma.classification(
                     step.obs.probs, self.node.core.classes, step.header),
-                next_view=pose(step.next_view), travel=step.travel, elapsed=step.elapsed))
+                next_view=self.node.tf.view(step.next_view), travel=step.travel, elapsed=step.elapsed))
 
     def ended(self, end):
         _, done = self.running.pop(end.goal, (None, None))

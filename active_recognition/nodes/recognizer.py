@@ -19,13 +19,15 @@ from std_srvs.srv import Trigger
 
 import msg_adapters as ma
 from active_recognition.checkpoint import model_path
-from active_recognition.controller import Controller, Refuse, Timing
+from active_recognition.commands import Refuse
+from active_recognition.controller import Controller
 from active_recognition.node_params import RecognizerParameters, changed
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, run_node
 from active_recognition.nodes.inputs import CameraInputs
 from active_recognition.nodes.recognize_server import RecognizeServer
 from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics
 from active_recognition.nodes.recorder import Recorder, recorded_topics
+from active_recognition.nodes.tf_poses import TfPoses
 from active_recognition.options import parameters
 from active_recognition.recognizer import ActiveRecognizer, least_top_score
 from active_recognition.validation import InputError, group
@@ -46,7 +48,7 @@ class Recognizer(LifecycleNode):
         # The node's own state, all of it (its lifecycle state is rclpy's: `state`):
         self.autostart = self.get_parameter("autostart").value
         self.image_qos = self.get_parameter("image_qos").value
-        self.core = self.loop = None      # the model, and the episode loop on it (configure)
+        self.core = self.loop = self.tf = None  # the model, the episode loop on it, TF (configure)
         self.sensing = None               # sensing settings for the next episode
         self.goal_policy = "reject"       # a goal while another runs (configure)
         self.model_file = self.outputs = self.recorder = self.failure = None
@@ -81,13 +83,15 @@ class Recognizer(LifecycleNode):
             self.model_file = str(model_path(p["checkpoint"], "modelnet"))  # real objects
             self.core = ActiveRecognizer(self.model_file, cfg.episode, p["seed"], p["planner"],
                                          cfg.sensing, cfg.limits)
+            self.tf = TfPoses(self, p["pose_source"], p["planning_frame"])
         except (InputError, OSError, ValueError, RuntimeError) as e:
             self.failure = e
             if not self.autostart:  # at autostart the exception says it (run_node: one line)
                 self.get_logger().error(f"configure failed: {e}")
             return FAILURE
         self.sensing, self.goal_policy, self.failure = cfg.sensing, p["goal_policy"], None
-        self.loop = Controller(self.core, changed(None, Timing(), p)[1], p["frame_id"])
+        self.loop = Controller(self.core, cfg.timing, p["frame_id"])
+        self.loop.require_pose, self.loop.pose_from = self.tf.on, "transform of the image's frame from TF"
         # the LabelInfo threshold: the least top score a recognised class has
         self.outputs = Outputs(self, self.core.classes, least_top_score(p["entropy_threshold"], len(self.core.classes)))
         if p["record"]:
@@ -120,7 +124,8 @@ class Recognizer(LifecycleNode):
         self.apply(self.loop.cancel(self.now()))
         self.close_recorder()
         self.outputs.destroy()
-        self.core = self.loop = self.outputs = self.model_file = None
+        self.tf.destroy()
+        self.core = self.loop = self.outputs = self.model_file = self.tf = None
         return SUCCESS
 
     def on_shutdown(self, state):
@@ -174,7 +179,7 @@ class Recognizer(LifecycleNode):
         if self.state != "active":
             return  # a tick already under way as the node deactivated
         self.inputs.follow()
-        self.apply(self.loop.tick(self.now()))
+        self.apply(self.tf.poll(self.loop, self.now()) + self.loop.tick(self.now()))
 
     def on_info(self, msg):
         try:
@@ -201,6 +206,7 @@ class Recognizer(LifecycleNode):
             metres, refused = None, str(e)
         self.apply(self.loop.image(self.now(), ma.stamp_seconds(msg.header.stamp), metres, msg.header,
                                    arrived, refused))
+        self.apply(self.tf.poll(self.loop, self.now()))
 
     # --- commands -> messages -------------------------------------------------------------
 

@@ -15,12 +15,12 @@ from std_msgs.msg import Float32MultiArray, Header, String
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.controller import AskView, End, Step
+from active_recognition.commands import AskView, End, Step
 from active_recognition.health import Health
 from active_recognition.nodes.recorder import vision_topics
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
-INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_tolerance")  # refusals
+INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_wait")  # refusals
 
 
 class Outputs:
@@ -57,7 +57,7 @@ class Outputs:
     def send(self, c):
         """Publish a command of the controller: AskView, Step or End."""
         if isinstance(c, AskView):
-            self.pubs["view"].publish(pose(c))
+            self.pubs["view"].publish(self.node.tf.view(c))
         elif isinstance(c, Step):
             self.step(c)
         elif isinstance(c, End):
@@ -96,13 +96,6 @@ class Outputs:
         if end.obs.probs is not None:
             return ma.unknown_classification(header, end.obs.probs, self.classes)
         return ma.unknown_classification(header)
-
-
-def pose(ask):
-    """The PoseStamped of a controller.AskView (an empty one for None)."""
-    if ask is None:
-        return PoseStamped()
-    return ma.position_to_pose(ask.position, ask.rotation, ask.frame, ma.seconds_to_stamp(ask.stamp))
 
 
 def diagnostics(node, now):

@@ -22,6 +22,7 @@ import msg_adapters as ma
 from active_recognition.node_params import ObjectSource, SimulatedCameraParameters
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
+from active_recognition.nodes.camera_tf import CameraTf
 from active_recognition.options import parameters
 from active_recognition.simulated_camera import SimulatedCamera
 from active_recognition.validation import InputError, group
@@ -49,6 +50,8 @@ class SimulatedCameraNode(Node):
         self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos)
         self.create_subscription(PoseStamped, "next_view", guarded(self, self.on_pose), 10)
         self.warn, self.unanswered = Throttled(self.get_logger()), 0
+        self.frames = CameraTf(self, SimulatedCameraParameters(**group(SimulatedCameraParameters, p)).frames,
+                               self.frame_id)
         self.get_logger().info(f"simulated camera ({sensor.width}x{sensor.height}) showing "
                                f"{self.sim.description}")
 
@@ -68,8 +71,8 @@ class SimulatedCameraNode(Node):
 
     def on_pose(self, msg):
         try:
-            position, rotation = ma.pose_to_camera(msg)
-        except ma.AdapterError as e:
+            position, rotation = self.frames.in_object(msg)
+        except ValueError as e:  # AdapterError, InputError
             return self.warn("next_view", f"pose rejected: {e}")
         shot = self.sim.capture(position, rotation)
         if shot is None:
@@ -80,7 +83,9 @@ class SimulatedCameraNode(Node):
         depth, position, rotation = shot
         stamp = msg.header.stamp
         self.pub_info.publish(ma.camera_info(self.sim.k, stamp, self.frame_id))
-        self.pub_pose.publish(ma.position_to_pose(position, rotation, msg.header.frame_id, stamp))
+        if self.frames.config.publish_pose:
+            self.pub_pose.publish(ma.position_to_pose(position, rotation, self.frames.pose_frame(msg), stamp))
+        self.frames.send(position, rotation, stamp)
         self.pub_image.publish(ma.metres_to_image(depth, stamp, self.frame_id, self.sim.sensor.encoding))
 
 
