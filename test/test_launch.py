@@ -233,7 +233,17 @@ def test_objects_shows_the_camera_the_objects_the_model_was_trained_on(objects, 
     for name, file in (("recognizer", "recognizer.yaml"), ("simulated_camera", "simulated_camera.yaml")):
         own = yaml.safe_load((ROOT / "config" / file).read_text())[name]["ros__parameters"]
         changed = {k for k in own if own[k] != params[name][k]}
-        assert changed <= {"checkpoint", "dataset", "root"}
+        assert changed <= {"checkpoint", "dataset", "root", "pose_source", "publish_tf", "publish_pose"}
+
+
+@pytest.mark.parametrize("source", ["tf", "topic"])
+def test_pose_source_sets_where_the_camera_says_it_is_and_where_the_recognizer_reads_it(source):
+    defaults, choices = launch_args(LAUNCH)
+    assert defaults["pose_source"] == "tf" and choices["pose_source"] == ["tf", "topic"]
+    params = node_parameters(LAUNCH, pose_source=source)
+    camera, recognizer = params["simulated_camera"], params["recognizer"]
+    assert recognizer["pose_source"] == source
+    assert (camera["publish_tf"], camera["publish_pose"]) == ((True, False) if source == "tf" else (False, True))
 
 
 def test_objects_defaults_to_procedural_and_offers_each_shipped_model():
