@@ -20,7 +20,7 @@ from active_recognition.health import Health
 from active_recognition.nodes.recorder import vision_topics
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
-INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_wait")  # refusals
+INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_wait", "planning_frame")  # refusals
 
 
 class Outputs:
