@@ -45,9 +45,10 @@ def rss_mb():
         return int(f.read().split()[1]) * resource.getpagesize() / 2 ** 20
 
 
-def closed_loop(episodes, camera=None):
+def closed_loop(episodes, camera=None, pose_source="topic"):
     """Time `episodes` 10-view episodes (after 2 to warm up) with the simulated camera, the
-    model's own (camera None) or the RealSense preset with `camera`'s size and K. Every callback
+    model's own (camera None) or the RealSense preset with `camera`'s size and K, its pose on
+    camera/pose or on TF (`pose_source`). Every callback
     runs in one thread, as each node runs in its own process (`rclpy.spin`): in a multi-threaded
     executor's worker threads torch does not keep its one-thread setting, and a step of the
     compact model took 0.5 ms more."""
@@ -55,8 +56,11 @@ def closed_loop(episodes, camera=None):
         sensor = [] if camera is None else [
             Parameter(f.name, value=getattr(sensor_config("realsense", **camera), f.name))
             for f in fields(sensor_config())]
-        cam = SimulatedCameraNode(context=ctx, parameter_overrides=sensor)
-        rec = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL, Parameter("entropy_threshold", value=0.0)])
+        tf = pose_source == "tf"
+        cam = SimulatedCameraNode(context=ctx, parameter_overrides=sensor + [
+            Parameter("publish_tf", value=tf), Parameter("publish_pose", value=not tf)])
+        rec = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL, Parameter("entropy_threshold", value=0.0),
+                                                           Parameter("pose_source", value=pose_source)])
         client = DemoClient(context=ctx)
         for n in (cam, rec, client):
             ex.add_node(n)

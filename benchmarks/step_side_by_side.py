@@ -2,11 +2,13 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """The recognizer's 640x480 step p50 (image received -> next view published; ros_latency.py's
-closed loop with the RealSense preset) of this checkout against another one, side by side:
-runs alternate between the two, each in a process of its own, and the figure is the ratio of
-their medians. Make the other checkout with `git worktree add DIR COMMIT`.
+closed loop with the RealSense preset), two ways side by side: this checkout against another
+(`--base DIR`, made with `git worktree add DIR COMMIT`), or with its poses from TF against
+camera/pose (`--tf`). Runs alternate between the two, each in a process of its own, and the
+figure is the ratio of their medians.
 
     python benchmarks/step_side_by_side.py --base DIR [--runs 3 --episodes 10]
+    python benchmarks/step_side_by_side.py --tf
 
 Last line is JSON, also written to --out when given."""
 import argparse
@@ -30,14 +32,15 @@ sys.path[:0] = [root + "/benchmarks", root]
 import numpy as np
 import active_recognition, ros_latency
 assert active_recognition.__file__.startswith(root), active_recognition.__file__
-_, steps = ros_latency.closed_loop(int(sys.argv[2]), ros_latency.VGA)
+extra = {"pose_source": sys.argv[3]} if sys.argv[3] != "topic" else {}
+_, steps = ros_latency.closed_loop(int(sys.argv[2]), ros_latency.VGA, **extra)
 print(json.dumps(float(np.percentile(steps, 50))))
 """
 
 
-def step_p50(root, episodes):
+def step_p50(root, episodes, pose_source="topic"):
     env = {**os.environ, "PYTHONPATH": str(root), "OMP_NUM_THREADS": "1"}
-    done = subprocess.run([sys.executable, "-c", ONE_RUN, str(root), str(episodes)], env=env,
+    done = subprocess.run([sys.executable, "-c", ONE_RUN, str(root), str(episodes), pose_source], env=env,
                           capture_output=True, text=True, timeout=1200)
     if done.returncode != 0:
         raise SystemExit(f"step_side_by_side: the run in {root} failed:\n{done.stderr[-2000:]}")
@@ -54,24 +57,29 @@ def cpu():
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--base", required=True, help="the other checkout (git worktree add DIR COMMIT)")
+    which = ap.add_mutually_exclusive_group(required=True)
+    which.add_argument("--base", help="the other checkout (git worktree add DIR COMMIT)")
+    which.add_argument("--tf", action="store_true", help="pose_source tf against topic, this checkout")
     ap.add_argument("--runs", type=int, default=3, help="runs of each, alternating")
     ap.add_argument("--episodes", type=int, default=10, help="10-view episodes a run")
     ap.add_argument("--out", help="JSON of the figures")
     args = ap.parse_args()
-    base = Path(args.base).resolve()
+    base = Path(args.base).resolve() if args.base else ROOT
     if not (base / "benchmarks" / "ros_latency.py").exists():
         raise SystemExit(f"step_side_by_side: {base} is not a checkout of this project")
-    runs = {"base": [], "this": []}
+    arms = {"topic": (ROOT, "topic"), "tf": (ROOT, "tf")} if args.tf else \
+        {"base": (base, "topic"), "this": (ROOT, "topic")}
+    runs = {name: [] for name in arms}
     for _ in range(args.runs):
-        runs["base"].append(step_p50(base, args.episodes))
-        runs["this"].append(step_p50(ROOT, args.episodes))
-        print(f"base {runs['base'][-1]:.2f} ms, this {runs['this'][-1]:.2f} ms", flush=True)
+        for name, (root, source) in arms.items():
+            runs[name].append(step_p50(root, args.episodes, source))
+        print(", ".join(f"{name} {r[-1]:.2f} ms" for name, r in runs.items()), flush=True)
     rev = subprocess.run(["git", "-C", str(base), "rev-parse", "--short", "HEAD"], capture_output=True,
                          text=True).stdout.strip()
-    out = {"base": rev, "machine": cpu(), "episodes": args.episodes,
-           "base_step_ms_p50": runs["base"], "this_step_ms_p50": runs["this"],
-           "ratio_of_medians": float(np.median(runs["this"]) / np.median(runs["base"]))}
+    (a, ra), (b, rb) = runs.items()
+    out = {"base": rev, "machine": cpu(), "episodes": args.episodes, "compared": f"{b} / {a}",
+           f"{a}_step_ms_p50": ra, f"{b}_step_ms_p50": rb,
+           "ratio_of_medians": float(np.median(rb) / np.median(ra))}
     if args.out:
         write_json(args.out, out)
     emit(out)
