@@ -78,10 +78,12 @@ def cmd_demo(args):
 def cmd_recognize(args):
     need_rclpy("recognize")
     from .nodes.recognize_client import run_goal
-    result = run_goal(args.action, args.object_frame, args.object_size, args.max_views,
-                      args.timeout)
-    status = result.status if result is not None else "rejected"
-    return 0 if status in ("recognized", "unknown") else 130 if status == "canceled" else 1
+    from action_msgs.msg import GoalStatus
+
+    result, state = run_goal(args.action, args.object_frame, args.object_size, args.max_views, args.timeout)
+    if state == GoalStatus.STATUS_CANCELED:  # by Ctrl-C; a goal another start replaced is aborted
+        return 130
+    return 0 if result is not None and result.status in ("recognized", "unknown") else 1
 
 
 def cmd_evaluate(args):

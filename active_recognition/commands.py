@@ -45,6 +45,7 @@ class End:
     result: dict             # recognition/result's JSON fields, travel and elapsed among them
     goal: Any                # the goal it answers (None: ~/reset)
     replaced: bool = False   # canceled by the start of another (recognition/result stays silent)
+    frame: str = "object"    # the episode's object frame
 
 
 @dataclass(frozen=True)

@@ -72,6 +72,15 @@ class Pending:
     header: Any
 
 
+def check_goal(object_size=0.0, max_views=0):
+    """Refuse (InputError) a start the loop cannot run: a size or a view count out of range (0
+    keeps the node's)."""
+    if not (object_size == 0 or 1e-3 <= object_size <= 100):  # NaN too
+        raise InputError(f"object_size must be 0 (the node's) or 0.001 to 100 m, got {object_size}")
+    if not 0 <= max_views <= MAX_VIEWS:
+        raise InputError(f"max_views must be 0 (the node's) to {MAX_VIEWS}, got {max_views}")
+
+
 class Controller:
     """One object at a time on `core` (recognizer.ActiveRecognizer)."""
 
@@ -237,14 +246,6 @@ class Controller:
             return out + [self.end(now, self.core.time_out())]
         return out + self.check_view(now)
 
-    def check_goal(self, object_size=0.0, max_views=0):
-        """Refuse (InputError) a start the loop cannot run: a size or a view count out of range
-        (0 keeps the node's)."""
-        if not (object_size == 0 or 1e-3 <= object_size <= 100):  # NaN too
-            raise InputError(f"object_size must be 0 (the node's) or 0.001 to 100 m, got {object_size}")
-        if not 0 <= max_views <= MAX_VIEWS:
-            raise InputError(f"max_views must be 0 (the node's) to {MAX_VIEWS}, got {max_views}")
-
     def report(self, now, active=True, state="active"):
         """(level, message, values) of the loop for /diagnostics: its health, counts and timing."""
         level, message = self.health.level(now, self.timing.view_timeout, active, state)
@@ -353,7 +354,8 @@ class Controller:
 
     def end(self, now, obs):
         result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now)}
-        end = End(obs, self.header, result, self.goal)
+        end = End(obs, self.header, result, self.goal, frame=self.frame)
         self.health.ended(obs.status)
         self.state, self.goal, self.request, self.asked_at = ENDED, None, None, None
+        self.frame = self.default_frame  # a goal's object frame is for its episode alone
         return end

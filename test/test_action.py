@@ -4,6 +4,7 @@
 """The `recognize` action in one process: the recognizer, the simulated camera and an action
 client over real topics. Feedback per image and a result; a cancel; a goal while one runs;
 the goal's fields; refused goals. Across processes: test_cross_process_action.py."""
+import sys
 import time
 
 import numpy as np
@@ -182,3 +183,55 @@ def test_every_attribute_of_the_node_is_made_at_its_start(loop):
     recognizer.trigger_deactivate()
     recognizer.trigger_cleanup()
     assert set(vars(recognizer)) - made == set()
+
+
+def test_a_cleanup_during_a_goal_aborts_it_with_its_result(loop):
+    executor, recognizer, camera, client, views = loop(entropy_threshold=0.0)
+    goal = Goal(executor, client)
+    assert spin_until(executor, lambda: len(goal.feedback) >= 1, 20)
+    recognizer.trigger_deactivate()
+    recognizer.trigger_cleanup()
+    result, status = goal.wait(5)
+    assert status == GoalStatus.STATUS_ABORTED and result.status == "canceled"
+    assert result.views == len(goal.feedback) and result.classification.results[0].class_id == "UNLABELED"
+
+
+def test_every_rejected_goal_is_logged_with_its_reason(loop):
+    executor, recognizer, camera, client, views = loop()
+    logged = []
+    recognizer.refuse.logger = type("Log", (), {"warn": lambda self, text: logged.append(text)})()
+    for fields in ({"object_size": float("nan")}, {"max_views": 1001}, {"object_size": -1.0}):
+        assert not Goal(executor, client, **fields).handle.accepted
+    assert len(logged) == 3 and "got nan" in logged[0] and "1001" in logged[1] and "-1" in logged[2]
+
+
+def test_the_client_says_when_the_server_goes_away(loop, monkeypatch):
+    from active_recognition.nodes import recognize_client
+
+    executor, recognizer, camera, client, views = loop()
+    monkeypatch.setattr(recognize_client, "SERVER_GONE_S", 0.5)
+    executor.remove_node(camera)  # no image comes: the goal runs on
+    camera.destroy_node()
+    timers = []
+
+    def server_gone():
+        timers[0].cancel()
+        recognizer.action.destroy()
+    timers.append(recognizer.create_timer(0.5, server_gone))
+    lines, start = [], time.monotonic()
+    assert recognize_client.send(executor, client, Recognize.Goal(), 10, out=lines.append) == (None, None)
+    assert time.monotonic() - start < 5 and "went away" in lines[-1]
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--timeout", "0.5"], "no recognize action server within 0.5 s"),
+    (["--action", "bad name!"], "--action 'bad name!' is not a valid action name"),
+    (["--object-size", "0.0005"], "object_size must be 0 (the node's) or 0.001 to 100 m"),
+    (["--max-views", "1001"], "--max-views: must be an integer from 0 to 1000")])
+def test_the_client_refuses_in_one_line_and_exits_2(args, says):
+    from conftest import run_side_by_side
+
+    done, = run_side_by_side([[sys.executable, "-m", "active_recognition.cli", "recognize", "--timeout", "0.5",
+                               *args]])
+    assert done.returncode == 2, done.stderr
+    assert says in done.stderr and len(done.stderr.strip().splitlines()) == 1, done.stderr

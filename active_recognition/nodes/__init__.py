@@ -122,6 +122,12 @@ class Throttled:
         self.logger, self.period, self.last, self.counts, self.latest = logger, period, {}, {}, {}
         self.told = set()
 
+    def always(self, key, text):
+        """A refusal counted and kept as __call__ does, logged every time (a rare one)."""
+        self.counts[key] = self.counts.get(key, 0) + 1
+        self.latest[key] = text
+        self.logger.warn(text)
+
     def once(self, key, text, warn=False):
         """Log `text` the first time `key` comes (information, or a warning), never again."""
         if key not in self.told:

@@ -5,18 +5,23 @@
 people (no `ros2` CLI needed). Prints each feedback as it comes (views, best class, probability,
 next view) and the result; Ctrl-C cancels the goal and prints the result it ends with."""
 import sys
+import time
 
 import rclpy
 from action_msgs.msg import GoalStatus
 from rclpy.action import ActionClient
+from rclpy.exceptions import InvalidTopicNameException
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
+from rclpy.validate_topic_name import validate_topic_name
 
+from active_recognition.controller import check_goal
 from active_recognition.nodes.demo import spin_until
 from active_recognition.validation import InputError
 from msg_adapters import UNLABELED
 
+SERVER_GONE_S = 3.0  # the action server gone this long: no result will come
 STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: "aborted",
           GoalStatus.STATUS_CANCELED: "canceled"}
 
@@ -58,33 +63,42 @@ def interface():
 
 def send(executor, client, goal, timeout, out=print):
     """Send `goal` (a Recognize.Goal), print its feedback, wait for its result; Ctrl-C cancels
-    it -> the Result (None when the goal was rejected)."""
+    it -> (its Result, its GoalStatus), (None, None) when it was rejected or the server went away."""
     if not client.wait_for_server(timeout_sec=timeout):
         raise InputError(f"no recognize action server within {timeout:g} s (is the recognizer "
                          f"running and active, and the action's name right?)")
-    sent = client.send_goal_async(goal, feedback_callback=lambda m: out(feedback_line(m.feedback)))
-    spin_until(executor, sent.done, timeout)
-    handle = sent.result() if sent.done() else None
-    if handle is None or not handle.accepted:
-        out("goal rejected (the node logs why: another goal running, or the node not active)")
-        return None
-    result = handle.get_result_async()
+    handle = result = None
     try:
+        sent = client.send_goal_async(goal, feedback_callback=lambda m: out(feedback_line(m.feedback)))
+        spin_until(executor, sent.done, timeout)
+        handle = sent.result() if sent.done() else None
+        if handle is None or not handle.accepted:
+            out("goal rejected (the recognizer logs why: another goal running, the node not active, "
+                "a field out of range)")
+            return None, None
+        result, gone = handle.get_result_async(), None
         while not result.done():
             executor.spin_once(timeout_sec=0.1)
+            gone = None if client.server_is_ready() else gone or time.monotonic()
+            if gone is not None and time.monotonic() - gone > SERVER_GONE_S:
+                out(f"the recognize action server went away (none for {SERVER_GONE_S:g} s): no result")
+                return None, None
     except KeyboardInterrupt:
+        if handle is None or not handle.accepted:
+            raise
         out("canceling ...")
         handle.cancel_goal_async()
         spin_until(executor, result.done, 10.0)
     if not result.done():
-        return None
+        return None, None
     out(result_line(result.result().result, result.result().status))
-    return result.result().result
+    return result.result().result, result.result().status
 
 
 def run_goal(action="/recognize", object_frame="", object_size=0.0, max_views=0, timeout=10.0,
              out=print):
-    """One goal, as `active-recognition recognize` sends it -> its Result, or None."""
+    """One goal, as `active-recognition recognize` sends it -> (its Result, its GoalStatus), or
+    (None, None)."""
     recognize = interface()
     # Ctrl-C is ours (a KeyboardInterrupt that cancels the goal), not rclpy's shutdown
     rclpy.init(args=sys.argv[:1], signal_handler_options=SignalHandlerOptions.NO)
@@ -92,8 +106,13 @@ def run_goal(action="/recognize", object_frame="", object_size=0.0, max_views=0,
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     try:
+        check_goal(object_size, max_views)
         goal = recognize.Goal(object_frame=object_frame, object_size=float(object_size),
                               max_views=int(max_views))
+        try:
+            validate_topic_name(action)
+        except InvalidTopicNameException as e:
+            raise InputError(f"--action {action!r} is not a valid action name ({str(e).splitlines()[0]})") from e
         return send(executor, ActionClient(node, recognize, action), goal, timeout, out)
     finally:
         node.destroy_node()

@@ -13,6 +13,7 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.task import Future
 
 import msg_adapters as ma
+from active_recognition.controller import check_goal
 from active_recognition.validation import InputError
 
 try:
@@ -44,12 +45,13 @@ class RecognizeServer:
         node = self.node
         try:
             if node.state != "active":
-                raise InputError(f"the node is {node.state}: activate it first")
-            node.loop.check_goal(goal.object_size, goal.max_views)
+                first = "configure and activate" if node.state == "unconfigured" else "activate"
+                raise InputError(f"the node is {node.state}: {first} it first")
+            check_goal(goal.object_size, goal.max_views)
             if self.running and node.goal_policy == "reject":
                 raise InputError("another goal is running (goal_policy: reject)")
-        except InputError as e:
-            node.refuse("recognize", f"recognize goal rejected: {e}")
+        except InputError as e:  # goals are few: each refusal is logged
+            node.refuse.always("recognize", f"recognize goal rejected: {e}")
             return GoalResponse.REJECT
         return GoalResponse.ACCEPT
 
@@ -65,17 +67,14 @@ class RecognizeServer:
         self.running[key] = handle, done
         node.apply(node.loop.start(node.now(), key, goal.object_frame, goal.object_size,
                                    goal.max_views, node.sensing))
-        end = await done
-        status = end.result["status"]
-        if status in SUCCEEDS:
+        result = await done
+        if result.status in SUCCEEDS:
             handle.succeed()
-        elif status == "canceled" and handle.is_cancel_requested:
+        elif result.status == "canceled" and handle.is_cancel_requested:
             handle.canceled()
         else:
             handle.abort()
-        return Recognize.Result(status=status, classification=node.outputs.verdict(end),
-                                views=end.result["views"], travel=end.result["travel"],
-                                elapsed=end.result["elapsed"])
+        return result
 
     def feedback(self, step):
         if step.goal in self.running:
@@ -86,5 +85,7 @@ class RecognizeServer:
 
     def ended(self, end):
         _, done = self.running.pop(end.goal, (None, None))
-        if done is not None:
-            done.set_result(end)
+        if done is not None:  # the result made now: a cleanup may free the outputs before it is sent
+            done.set_result(Recognize.Result(
+                status=end.result["status"], classification=self.node.outputs.verdict(end),
+                views=end.result["views"], travel=end.result["travel"], elapsed=end.result["elapsed"]))

@@ -90,7 +90,7 @@ class Outputs:
         recognised, followed by the best guess so far; the last classified image's header, else
         now in the object frame."""
         header = end.header or Header(stamp=self.node.get_clock().now().to_msg(),
-                                      frame_id=self.node.loop.frame)
+                                      frame_id=end.frame)
         if end.obs.status == "recognized":
             return ma.classification(end.obs.probs, self.classes, header)
         if end.obs.probs is not None:
