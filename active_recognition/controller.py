@@ -39,8 +39,9 @@ class Timing:
                                                    "next_view request")
     pose_tolerance: float = option(0.05, lo=0, hi=60, runtime=True, help=(
         "seconds: the camera pose nearest an image's stamp within this is its pose"))
-    # measured: docs/results/pose_wait.json (how late poses come behind their image)
-    pose_wait: float = option(1.5, lo=0, hi=60, runtime=True, help=(
+    # measured (docs/results/pose_wait.json): a reliable pose lost beside a large frame comes
+    # again at its writer's next heartbeat, 3 s with Fast DDS's defaults
+    pose_wait: float = option(3.5, lo=0, hi=60, runtime=True, help=(
         "seconds an image waits for its measured pose (camera/pose, or its transform with "
         "pose_source: tf); after it the image is taken at the view asked for (topic) or refused (tf)"))
     view_timeout: float = option(3.0, lo=0.01, hi=3600, runtime=True, help=(
