@@ -99,7 +99,7 @@ class Controller:
         self.started = self.paused_at = None
         self.paused_for, self.resumed_state = 0.0, None
         self.counts, self.health = Counter(), Health()
-        self.waited = deque(maxlen=1000)        # seconds images waited for their measured poses
+        self.waited = deque(maxlen=1000)        # seconds each image waited for its pose
         self.notes = []                         # one-off information the node logs once
 
     # --- events -----------------------------------------------------------------------------
@@ -214,6 +214,8 @@ class Controller:
             # 30 Hz camera would otherwise restart the wait forever
             self.state = CLASSIFYING
             return []
+        if found is not None:
+            self.waited.append(now - since)  # none when its pose was there already
         return self.classify(now, found)
 
     def tick(self, now):
@@ -223,6 +225,7 @@ class Controller:
         out = []
         if self.state == CLASSIFYING and now - self.pending.since > self.timing.pose_wait:
             found = self.pose_at(self.pending.stamp, final=True)
+            self.waited.append(now - self.pending.since)  # in vain, unless a near pose will do
             if found is None and self.require_pose:
                 self.pending, self.state = None, WAITING
                 out += self.reject(now, f"no {self.pose_from} for its stamp within pose_wait "

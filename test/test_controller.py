@@ -223,3 +223,18 @@ def test_a_bug_in_the_core_is_not_called_a_refused_image(loop, monkeypatch):
     assert loop.image(0.1, ask.stamp, np.zeros((64, 64))) == []  # waits for its pose
     with pytest.raises(ValueError, match="a bug"):
         loop.tick(0.2)
+
+
+def test_the_waits_for_poses_are_recorded_for_every_image(loop, camera):
+    ask = loop.start(0.0)[0]
+    metres, position, rotation = camera.capture(ask.position, ask.rotation)
+    assert loop.image(0.1, ask.stamp, metres) == []
+    assert "Step" in kinds(loop.pose(0.13, "object", ask.stamp, position, rotation))
+    assert list(loop.waited) == [pytest.approx(0.03)]  # its pose came 30 ms after it
+    ask = loop.start(1.0)[0]
+    metres, position, rotation = camera.capture(ask.position, ask.rotation)
+    out = loop.pose(1.0, "object", ask.stamp, position, rotation) + loop.image(1.1, ask.stamp, metres)
+    assert "Step" in kinds(out) and loop.waited[-1] == 0.0  # its pose came first
+    report = loop.report(1.2)[2]
+    assert report["pose wait p99 (ms)"] == pytest.approx(np.percentile([30.0, 0.0], 99))
+    assert report["images matched to a measured pose (%)"] == 100.0
