@@ -24,6 +24,7 @@ from .commands import AskView, End, Refuse, Step
 from .episode import MAX_VIEWS
 from .geometry import Intrinsics, travel
 from .health import Health
+from .robot_time import RobotTime
 from .validation import InputError, option, validate
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
@@ -52,6 +53,10 @@ class Timing:
     max_clock_offset: float = option(5.0, lo=0.001, hi=86400, runtime=True, help=(
         "seconds: images and poses stamped further than this from the node's clock are refused "
         "(another clock; a replay without use_sim_time)"))
+    time_budget: float = option(0.0, lo=0, hi=86400, runtime=True, help=(
+        "robot seconds an episode may spend on views (captures, settles, travel: the cost model "
+        "capture_s, settle_s, rad_per_s); the episode answers with what it has before the next "
+        "view would overrun it; 0 = no budget"))
     episode_timeout: float = option(60.0, lo=0.1, hi=86400, runtime=True, help=(
         "seconds: an episode still under way this long after its start ends with status "
         "timeout and the best guess so far (60 s: each of 10 views taking both its tries of 3 s)"))
@@ -73,9 +78,11 @@ class Pending:
     header: Any
 
 
-def check_goal(object_size=0.0, max_views=0):
-    """Refuse (InputError) a start the loop cannot run: a size or a view count out of range (0
-    keeps the node's)."""
+def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
+    """Refuse (InputError) a start the loop cannot run: a size, a view count or a budget out of
+    range (0 keeps the node's)."""
+    if not 0 <= time_budget <= 86400:
+        raise InputError(f"time_budget must be 0 (the node's) to 86400 robot seconds, got {time_budget}")
     if not (object_size == 0 or 1e-3 <= object_size <= 100):  # NaN too
         raise InputError(f"object_size must be 0 (the node's) or 0.001 to 100 m, got {object_size}")
     if not 0 <= max_views <= MAX_VIEWS:
@@ -85,7 +92,7 @@ def check_goal(object_size=0.0, max_views=0):
 class Controller:
     """One object at a time on `core` (recognizer.ActiveRecognizer)."""
 
-    def __init__(self, core, timing=Timing(), frame="object"):
+    def __init__(self, core, timing=Timing(), frame="object", cost=RobotTime()):
         self.core, self.timing, self.frame = core, timing, frame
         self.default_frame, self.default_views = frame, core.episode.config.max_views
         self.state, self.goal, self.header = IDLE, None, None
@@ -100,13 +107,15 @@ class Controller:
         self.paused_for, self.resumed_state = 0.0, None
         self.counts, self.health = Counter(), Health()
         self.waited = deque(maxlen=1000)        # seconds each image waited for its pose
+        self.cost, self.budget = cost, 0.0      # what views cost a robot; this episode's budget
         self.notes = []                         # one-off information the node logs once
 
     # --- events -----------------------------------------------------------------------------
 
-    def start(self, now, goal=None, frame="", object_size=0.0, max_views=0, sensing=None):
+    def start(self, now, goal=None, frame="", object_size=0.0, max_views=0, sensing=None, time_budget=0.0):
         """A new object (~/reset, or a goal): ends the episode under way (canceled), asks the
         first view. Empty/zero arguments keep the node's settings."""
+        self.budget = float(time_budget) or self.timing.time_budget
         out = [replace(end, replaced=True) for end in self.cancel(now)]
         if object_size:
             sensing = replace(sensing or self.core.sensing, object_size=float(object_size))
@@ -319,17 +328,21 @@ class Controller:
             return [Refuse("empty", f"no object in the image ({obs.object_fraction:.2%} of the "
                                     f"model's pixels): asking for the same view again"),
                     self.ask(now)]
-        out = []
+        out, last = [], obs if obs.done else None
         if obs.status != "no_object":
             self.counts["classified"] += 1
             self.counts["matched"] += found is not None  # to its measured pose
             self.header = p.header
-            ask = None if obs.done else self.ask(now)
+            taken = self.core.views_taken()
+            if last is None and self.budget and \
+                    self.cost.seconds(taken) + self.cost.next_view(taken, self.core.view) > self.budget:
+                last = self.core.finish()  # the next view would overrun the budget: answer now
+            ask = None if last is not None else self.ask(now)
             out += [ask] if ask is not None else []
             out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now),
                             self.goal))
-        if obs.done:
-            out.append(self.end(now, obs))
+        if last is not None:
+            out.append(self.end(now, last))
         return out
 
     def check_view(self, now):
@@ -357,7 +370,8 @@ class Controller:
                                       f"for {other} instead"), self.ask(now)]
 
     def end(self, now, obs):
-        result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now)}
+        result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now),
+                  "robot_seconds": self.cost.seconds(self.core.views_taken())}
         end = End(obs, self.header, result, self.goal, frame=self.frame)
         self.health.ended(obs.status)
         self.state, self.goal, self.request, self.asked_at = ENDED, None, None, None

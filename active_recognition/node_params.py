@@ -18,12 +18,11 @@ from .datasets import NAMES, SPLITS
 from .episode import EpisodeConfig
 from .reach import ViewLimits
 from .recognizer import NODE_PLANNERS, SensingConfig
+from .robot_time import RobotTime
 from .simulated_camera import SensorConfig
 from .validation import SEED_MAX, nested, option, validate
 
 QOS_MODES = ("auto", "reliable", "sensor_data")
-SENSING_NAMES = frozenset(f.name for f in fields(SensingConfig))
-TIMING_NAMES = frozenset(f.name for f in fields(Timing))
 GOAL_POLICIES = ("reject", "preempt")
 POSE_SOURCES = ("topic", "tf")
 CAMERA_QOS = ("sensor_data", "reliable")
@@ -75,6 +74,7 @@ class RecognizerParameters:
 
     node: NodeConfig = nested(NodeConfig, flat=True)
     timing: Timing = nested(Timing, flat=True)
+    robot: RobotTime = nested(RobotTime, flat=True)
     episode: EpisodeConfig = nested(EpisodeConfig, flat=True)
     sensing: SensingConfig = nested(SensingConfig, flat=True, runtime=True)
     # a robot sees an object on a floor or a table from above its centre
@@ -154,9 +154,8 @@ class SimulatedCameraParameters:
         validate(self)
 
 
-def changed(sensing, timing, values):
-    """(sensing, timing) with the parameters in `values` ({name: checked value}) that belong to
-    each (SensingConfig's; controller.Timing's) changed."""
-    def update(config, keys):
-        return replace(config, **{k: v for k, v in values.items() if k in keys})
-    return update(sensing, SENSING_NAMES), update(timing, TIMING_NAMES)
+def changed(values, *configs):
+    """Each of `configs` (dataclasses) with the parameters in `values` ({name: checked value})
+    that are its fields changed (each validates itself)."""
+    return tuple(replace(c, **{k: v for k, v in values.items() if k in {f.name for f in fields(c)}})
+                 for c in configs)

@@ -355,6 +355,14 @@ class ActiveRecognizer:
         self.timed_out = True
         return self.so_far("timeout")
 
+    def finish(self) -> Observation:
+        """End the episode on what it has seen so far (a robot-time budget spent): recognized, or
+        unknown where the evidence says so."""
+        if self.done:
+            raise RuntimeError("the episode has ended; reset() for a new object")
+        self.episode.stop()
+        return self.so_far("unknown" if self.unknown() else "recognized")
+
     def so_far(self, status) -> Observation:
         """An Observation of no image, carrying the best guess so far (none before a view)."""
         probs = self.episode.probs[-1][0].detach().numpy() if self.episode.steps else None

@@ -235,3 +235,16 @@ def test_the_client_refuses_in_one_line_and_exits_2(args, says):
                                *args]])
     assert done.returncode == 2, done.stderr
     assert says in done.stderr and len(done.stderr.strip().splitlines()) == 1, done.stderr
+
+
+def test_a_goals_time_budget_ends_it_before_the_next_view_would_overrun(loop):
+    executor, recognizer, camera, client, views = loop(entropy_threshold=0.0)  # only the budget stops it
+    goal = Goal(executor, client, time_budget=3.0)
+    result, status = goal.wait()
+    assert status == GoalStatus.STATUS_SUCCEEDED and result.status == "recognized"
+    taken = recognizer.core.views_taken()
+    assert result.robot_seconds == pytest.approx(recognizer.loop.cost.seconds(taken), rel=1e-5)
+    assert result.robot_seconds <= 3.0 < result.robot_seconds + recognizer.loop.cost.next_view(
+        taken, recognizer.core.view)
+    assert 1 <= result.views < 10 and goal.feedback[-1].next_view.header.frame_id == ""
+    assert not Goal(executor, client, time_budget=-1.0).handle.accepted

@@ -69,10 +69,10 @@ def result(status="unknown", views=2):
 
 def test_the_action_has_the_specified_fields():
     assert Recognize.Goal.get_fields_and_field_types() == {
-        "object_frame": "string", "object_size": "float", "max_views": "uint32"}
+        "object_frame": "string", "object_size": "float", "max_views": "uint32", "time_budget": "float"}
     assert Recognize.Result.get_fields_and_field_types() == {
         "status": "string", "classification": "vision_msgs/Classification", "views": "uint32",
-        "travel": "float", "elapsed": "float"}
+        "travel": "float", "elapsed": "float", "robot_seconds": "float"}
     assert Recognize.Feedback.get_fields_and_field_types() == {
         "views": "uint32", "classification": "vision_msgs/Classification",
         "next_view": "geometry_msgs/PoseStamped", "travel": "float", "elapsed": "float"}

@@ -47,7 +47,7 @@ class RecognizeServer:
             if node.state != "active":
                 first = "configure and activate" if node.state == "unconfigured" else "activate"
                 raise InputError(f"the node is {node.state}: {first} it first")
-            check_goal(goal.object_size, goal.max_views)
+            check_goal(goal.object_size, goal.max_views, goal.time_budget)
             if self.running and node.goal_policy == "reject":
                 raise InputError("another goal is running (goal_policy: reject)")
         except InputError as e:  # goals are few: each refusal is logged
@@ -66,7 +66,7 @@ class RecognizeServer:
         done = Future()
         self.running[key] = handle, done
         node.apply(node.loop.start(node.now(), key, goal.object_frame, goal.object_size,
-                                   goal.max_views, node.sensing))
+                                   goal.max_views, node.sensing, goal.time_budget))
         result = await done
         if result.status in SUCCEEDS:
             handle.succeed()
@@ -88,4 +88,5 @@ class RecognizeServer:
         if done is not None:  # the result made now: a cleanup may free the outputs before it is sent
             done.set_result(Recognize.Result(
                 status=end.result["status"], classification=self.node.outputs.verdict(end),
-                views=end.result["views"], travel=end.result["travel"], elapsed=end.result["elapsed"]))
+                views=end.result["views"], travel=end.result["travel"], elapsed=end.result["elapsed"],
+                robot_seconds=end.result["robot_seconds"]))

@@ -90,7 +90,7 @@ class Recognizer(LifecycleNode):
                 self.get_logger().error(f"configure failed: {e}")
             return FAILURE
         self.sensing, self.goal_policy, self.failure = cfg.sensing, p["goal_policy"], None
-        self.loop = Controller(self.core, cfg.timing, p["frame_id"])
+        self.loop = Controller(self.core, cfg.timing, p["frame_id"], cfg.robot)
         self.loop.require_pose, self.loop.pose_from = self.tf.on, "transform of the image's frame from TF"
         # the LabelInfo threshold: the least top score a recognised class has
         self.outputs = Outputs(self, self.core.classes, least_top_score(p["entropy_threshold"], len(self.core.classes)))
@@ -155,7 +155,8 @@ class Recognizer(LifecycleNode):
                 name, values[p.name] = p.name, check_parameter(CHECKS, p.name, p.value)
             name = "sensing"
             if self.loop is not None:
-                self.sensing, self.loop.timing = changed(self.sensing, self.loop.timing, values)
+                self.sensing, self.loop.timing, self.loop.cost = changed(values, self.sensing, self.loop.timing,
+                                                                         self.loop.cost)
         except InputError as e:
             self.refuse(f"parameter {name}", f"parameter refused: {e}")
             return SetParametersResult(successful=False, reason=str(e))

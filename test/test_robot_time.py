@@ -1,0 +1,63 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""What views cost a robot (robot_time.RobotTime), against sums done by hand, and the loop's
+time_budget: it answers before the next view would overrun it."""
+import math
+
+import numpy as np
+import pytest
+
+from active_recognition.checkpoint import shipped
+from active_recognition.controller import AskView, Controller, End, Timing
+from active_recognition.recognizer import ActiveRecognizer
+from active_recognition.robot_time import RobotTime
+from active_recognition.simulated_camera import SimulatedCamera
+from active_recognition.validation import InputError
+
+
+def test_seconds_are_captures_settles_and_travel():
+    cost = RobotTime(capture_s=0.1, settle_s=0.5, rad_per_s=0.5)
+    quarter = [(math.pi / 2, 0.0), (math.pi / 2, math.pi / 2), (math.pi / 2, math.pi)]
+    # 3 captures, 2 settles, two quarter turns (pi rad) at 0.5 rad/s
+    assert cost.seconds(quarter) == pytest.approx(3 * 0.1 + 2 * 0.5 + math.pi / 0.5)
+    assert cost.seconds(quarter[:1]) == pytest.approx(0.1) and cost.seconds(np.zeros((0, 2))) == 0.0
+    rng = np.random.default_rng(3)
+    views = np.stack([np.arccos(rng.uniform(-1, 1, 6)), rng.uniform(-np.pi, np.pi, 6)], -1)
+    for n in range(6):  # one more view adds what next_view says
+        more = cost.seconds(views[:n]) + cost.next_view(views[:n], views[n])
+        assert cost.seconds(views[:n + 1]) == pytest.approx(more)
+
+
+@pytest.mark.parametrize("bad", [dict(rad_per_s=0.0), dict(capture_s=-1.0), dict(settle_s=float("nan"))])
+def test_a_bad_cost_model_is_refused(bad):
+    with pytest.raises(InputError, match=next(iter(bad))):
+        RobotTime(**bad)
+
+
+@pytest.fixture(scope="module")
+def camera():
+    sim = SimulatedCamera(seed=0)
+    sim.load(dataset="procedural", split="test", index=6)
+    return sim
+
+
+@pytest.mark.parametrize("budget", [0.05, 1.0, 4.0, 9.0])
+def test_an_episode_answers_before_the_next_view_would_overrun_its_budget(camera, budget):
+    core = ActiveRecognizer(str(shipped("procedural")))
+    core.rng = np.random.default_rng(2)
+    core.episode.config.entropy_threshold = 0.0  # never sure: only the budget stops it
+    loop = Controller(core, Timing(pose_wait=0.05))
+    commands, now = loop.start(0.0, time_budget=budget), 0.0
+    while not any(isinstance(c, End) for c in commands):
+        ask = [c for c in commands if isinstance(c, AskView)][-1]
+        now += 0.1
+        metres, position, rotation = camera.capture(ask.position, ask.rotation)
+        commands = loop.pose(now, ask.frame, ask.stamp, position, rotation) + loop.image(now, ask.stamp, metres)
+    end = commands[-1]
+    taken = core.views_taken()
+    spent = loop.cost.seconds(taken)
+    assert end.result["robot_seconds"] == pytest.approx(spent) and end.result["status"] in ("recognized", "unknown")
+    assert len(taken) >= 1 and (spent <= budget or len(taken) == 1)  # the first view is always taken
+    if len(taken) < core.episode.config.max_views:  # stopped by the budget: one more would overrun
+        assert spent + loop.cost.next_view(taken, core.view) > budget
