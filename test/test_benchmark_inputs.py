@@ -20,6 +20,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 BAD_INPUT = [
+    ("robot_seconds.py", ["--per-object", "{tmp}/nope.csv", "--out", "{tmp}/r.json"],
+     "--per-object {tmp}/nope.csv: no such file"),
+    ("robot_seconds.py", ["--rad-per-s", "0", "--out", "{tmp}/r.json"], "rad_per_s must be"),
     ("planners.py", ["--dataset", "modelnet", "--root", "{tmp}/nope", "--out", "{tmp}/o"],
      "modelnet dataset root {tmp}/nope: no such directory"),
     ("planners.py", ["--checkpoint", "{tmp}/garbage.pt", "--out", "{tmp}/o"],

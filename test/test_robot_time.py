@@ -61,3 +61,26 @@ def test_an_episode_answers_before_the_next_view_would_overrun_its_budget(camera
     assert len(taken) >= 1 and (spent <= budget or len(taken) == 1)  # the first view is always taken
     if len(taken) < core.episode.config.max_views:  # stopped by the budget: one more would overrun
         assert spent + loop.cost.next_view(taken, core.view) > budget
+
+
+def test_the_robot_seconds_benchmark_against_sums_by_hand(tmp_path):
+    from conftest import load_benchmark
+
+    bench = load_benchmark("robot_seconds")
+    quarter = "1.5707963;0.0", "1.5707963;1.5707963", "1.5707963;3.1415927"
+    header = ["planner", "object", "true", "start", "stopped_at", "early_stop_pred", "pred_1", "pred_2", "pred_3",
+              "view_1", "view_2", "view_3"]
+    rows = [["a", 0, "cup", 0, 3, "cup", "bowl", "cup", "cup", *quarter],   # right at its stop, wrong at 1 view
+            ["a", 1, "cup", 0, 2, "bowl", "bowl", "bowl", "cup", *quarter]]  # wrong at its stop
+    path = tmp_path / "per_object.csv"
+    path.write_text("\n".join(",".join(map(str, r)) for r in [header, *rows]) + "\n")
+    runs = bench.episodes(path)
+    cost = RobotTime()
+    f = bench.planner_figures(cost, runs["a"])
+    assert f["travel_deg_3"] == pytest.approx(180.0, abs=1e-4) and f["stop_views"] == 2.5
+    assert f["stop_accuracy"] == 0.5 and f["stop_accuracy_se"] == pytest.approx(0.5)  # std of (1, 0) / sqrt 2
+    move = 0.5 + (math.pi / 2) / 0.5  # a settle and a quarter turn
+    assert f["stop_seconds_mean"] == pytest.approx(((0.3 + 2 * move) + (0.2 + move)) / 2, abs=1e-5)
+    # 4 s: the first view and one move (0.2 + 3.64 s) fit, a second does not: episode 0 answers 'cup'
+    assert bench.within(cost, runs["a"][0][5], 3, 4.0) == 2 and f["budget_4_accuracy"] == 0.5
+    assert bench.within(cost, runs["a"][0][5], 3, 1.0) == 1  # the first view always

@@ -1,0 +1,146 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""What each planner's episodes cost a robot, from a committed evaluation's per_object.csv (its
+views, stops and answers, episode by episode): mean travel after 3 / 6 / 9 views; with the stop
+rule, accuracy, views, travel and robot seconds (mean and p90); and accuracy within budgets of
+robot seconds, an episode answering with what it has when its next view would overrun the
+budget (or when its stop rule stops it first). The cost model (robot_time.RobotTime): a capture
+per view, a settle per move, the great-circle travel at a steady angular speed. Every accuracy
+with its standard error, the starts of one object one sample (evaluate.standard_error's rule).
+
+    python benchmarks/robot_seconds.py [--per-object CSV] [--capture-s 0.1 --settle-s 0.5 --rad-per-s 0.5]
+
+Last line is JSON, also written to --out (default docs/results/modelnet10/robot_seconds.json)."""
+import argparse
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+from common import RESULTS, emit
+
+from active_recognition.geometry import travel
+from active_recognition.report import write_json
+from active_recognition.robot_time import RobotTime
+from active_recognition.validation import InputError
+
+BUDGETS = (4.0, 8.0, 12.0, 16.0, 24.0)
+CUTS = (3, 6, 9)
+
+
+def episodes(path):
+    """{planner: [(object, true, stopped_at, early answer, answers (T,), views (T, 2))]}."""
+    out = {}
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            steps = sum(1 for k in row if k.startswith("view_") and row[k])
+            views = np.array([[float(x) for x in row[f"view_{t}"].split(";")] for t in range(1, steps + 1)])
+            answers = [row[f"pred_{t}"] for t in range(1, steps + 1)]
+            out.setdefault(row["planner"], []).append(
+                (int(row["object"]), row["true"], int(row["stopped_at"]), row["early_stop_pred"], answers, views))
+    if not out:
+        raise InputError(f"{path}: no episodes")
+    return out
+
+
+def error(objects, correct):
+    """Standard error of an accuracy, the starts of one object as one sample."""
+    ids, inverse = np.unique(objects, return_inverse=True)
+    per_object = np.bincount(inverse, correct) / np.bincount(inverse)
+    return float(per_object.std(ddof=1) / math.sqrt(len(ids))) if len(ids) > 1 else 0.0
+
+
+def within(cost, views, stop, budget):
+    """Views an episode takes within `budget` robot seconds (the first always), at most `stop`."""
+    return taken_within(spent(cost, views), stop, budget)
+
+
+def spent(cost, views):
+    """(T,) robot seconds after each view of an episode's views (T, 2)."""
+    return np.array([cost.seconds(views[:k]) for k in range(1, len(views) + 1)])
+
+
+def taken_within(seconds, stop, budget):
+    return int(min(max(np.searchsorted(seconds, budget, side="right"), 1), stop))
+
+
+def planner_figures(cost, rows):
+    objects = np.array([r[0] for r in rows])
+    out = {"episodes": len(rows)}
+    for k in CUTS:
+        out[f"travel_deg_{k}"] = float(np.mean([math.degrees(travel(r[5][:k])) for r in rows]))
+    stopped = [(r[1] == r[3], r[2], travel(r[5][:r[2]]), cost.seconds(r[5][:r[2]])) for r in rows]
+    correct, views, moved, seconds = (np.array(x, dtype=float) for x in zip(*stopped))
+    out.update({"stop_accuracy": float(correct.mean()), "stop_accuracy_se": error(objects, correct),
+                "stop_views": float(views.mean()), "stop_travel_deg": float(np.degrees(moved).mean()),
+                "stop_seconds_mean": float(seconds.mean()), "stop_seconds_p90": float(np.percentile(seconds, 90))})
+    cumulative = [spent(cost, r[5]) for r in rows]
+    for budget in BUDGETS:
+        taken = [taken_within(c, r[2], budget) for r, c in zip(rows, cumulative)]
+        right = np.array([r[1] == r[4][n - 1] for r, n in zip(rows, taken)], dtype=float)
+        out[f"budget_{budget:g}_accuracy"] = float(right.mean())
+        out[f"budget_{budget:g}_accuracy_se"] = error(objects, right)
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--per-object", default=str(RESULTS / "modelnet10" / "per_object.csv"),
+                    help="an evaluation's per_object.csv (benchmarks/planners.py writes it)")
+    ap.add_argument("--capture-s", type=float, default=RobotTime.capture_s, help="robot seconds a capture")
+    ap.add_argument("--settle-s", type=float, default=RobotTime.settle_s, help="robot seconds to settle a move")
+    ap.add_argument("--rad-per-s", type=float, default=RobotTime.rad_per_s, help="angular speed, rad per second")
+    ap.add_argument("--out", default=str(RESULTS / "modelnet10" / "robot_seconds.json"), help="JSON of the figures")
+    args = ap.parse_args()
+    try:
+        cost = RobotTime(args.capture_s, args.settle_s, args.rad_per_s)
+        if not Path(args.per_object).is_file():
+            raise InputError(f"--per-object {args.per_object}: no such file")
+        runs = episodes(args.per_object)
+    except InputError as e:
+        raise SystemExit(f"robot_seconds.py: error: {e}")
+    figures = {name: planner_figures(cost, rows) for name, rows in runs.items()}
+    print(f"{'planner':<16} travel 3/6/9 (deg)   stop rule: accuracy, views, travel, seconds mean / p90   "
+          + "  ".join(f"<= {b:g} s" for b in BUDGETS))
+    for name, f in figures.items():
+        print(f"{name:<16} {f['travel_deg_3']:4.0f} / {f['travel_deg_6']:4.0f} / {f['travel_deg_9']:4.0f}   "
+              f"{100 * f['stop_accuracy']:5.1f} +- {100 * f['stop_accuracy_se']:.1f} %, {f['stop_views']:.2f}, "
+              f"{f['stop_travel_deg']:4.0f} deg, {f['stop_seconds_mean']:5.1f} / {f['stop_seconds_p90']:5.1f} s   "
+              + "  ".join(f"{100 * f[f'budget_{b:g}_accuracy']:5.1f} +- {100 * f[f'budget_{b:g}_accuracy_se']:.1f}"
+                          for b in BUDGETS))
+    out = {"per_object": str(Path(args.per_object).resolve().relative_to(RESULTS.parent.parent))
+           if Path(args.per_object).resolve().is_relative_to(RESULTS.parent.parent) else args.per_object,
+           "cost": {"capture_s": cost.capture_s, "settle_s": cost.settle_s, "rad_per_s": cost.rad_per_s},
+           "budgets_s": list(BUDGETS), "planners": figures}
+    write_json(args.out, out)
+    plot(cost, runs, Path(args.out).with_name("accuracy_vs_seconds.png"))
+    emit({"planners": len(figures)})
+
+
+def plot(cost, runs, path):
+    """Accuracy within each budget of robot seconds, a line per planner, to `path`."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    budgets = np.arange(1.0, 40.5, 0.5)
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for name, rows in runs.items():
+        cumulative = [spent(cost, r[5]) for r in rows]
+        steps = [[taken_within(c, r[2], b) for r, c in zip(rows, cumulative)] for b in budgets]
+        acc = [np.mean([r[1] == r[4][n - 1] for r, n in zip(rows, taken)]) for taken in steps]
+        ax.plot(budgets, 100 * np.array(acc), label=name, linestyle="--" if name == "oracle" else "-")
+    ax.set(xlabel="robot seconds (budget)", ylabel="accuracy (%)",
+           title=f"answering before the next view would overrun the budget (capture {cost.capture_s:g} s, "
+                 f"settle {cost.settle_s:g} s, {cost.rad_per_s:g} rad/s)")
+    ax.title.set_fontsize(8)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
