@@ -201,6 +201,9 @@ def run_node(node_class, args=None, name=None, params=None):
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except Exception:  # SIGTERM shuts the context down mid-spin, which rclpy may raise as an RCLError
+        if rclpy.ok():
+            raise
     finally:
         if node is not None:
             node.destroy_node()
