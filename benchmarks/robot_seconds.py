@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit
+from common import RESULTS, emit, one_line_errors
 
 from active_recognition.geometry import travel
 from active_recognition.report import write_json
@@ -93,13 +93,11 @@ def main():
     ap.add_argument("--rad-per-s", type=float, default=RobotTime.rad_per_s, help="angular speed, rad per second")
     ap.add_argument("--out", default=str(RESULTS / "modelnet10" / "robot_seconds.json"), help="JSON of the figures")
     args = ap.parse_args()
-    try:
+    with one_line_errors(ap):
         cost = RobotTime(args.capture_s, args.settle_s, args.rad_per_s)
         if not Path(args.per_object).is_file():
             raise InputError(f"--per-object {args.per_object}: no such file")
         runs = episodes(args.per_object)
-    except InputError as e:
-        raise SystemExit(f"robot_seconds.py: error: {e}")
     figures = {name: planner_figures(cost, rows) for name, rows in runs.items()}
     print(f"{'planner':<16} travel 3/6/9 (deg)   stop rule: accuracy, views, travel, seconds mean / p90   "
           + "  ".join(f"<= {b:g} s" for b in BUDGETS))
