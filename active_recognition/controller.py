@@ -237,6 +237,7 @@ class Controller:
             self.waited.append(now - self.pending.since)  # in vain, unless a near pose will do
             if found is None and self.require_pose:
                 self.pending, self.state = None, WAITING
+                self.counts["unmatched"] += 1
                 out += self.reject(now, f"no {self.pose_from} for its stamp within pose_wait "
                                         f"({self.timing.pose_wait:g} s)")
             elif not self.poses:
@@ -264,7 +265,7 @@ class Controller:
         level, message = self.health.level(now, self.timing.view_timeout, active, state)
         values = {**self.health.values(now), **{f"images {k}": self.counts[k] for k in IMAGE_COUNTS},
                   "images matched to a measured pose (%)": 100.0 * self.counts["matched"] / max(
-                      self.counts["classified"], 1),
+                      self.counts["classified"] + self.counts["unmatched"], 1),
                   "pose wait p99 (ms)": float(np.percentile(self.waited, 99)) * 1e3 if self.waited else "none",
                   "requests resent": self.counts["resent"],
                   "views unreachable": self.counts["unreachable"],

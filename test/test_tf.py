@@ -79,8 +79,8 @@ def test_a_transform_that_never_comes_refuses_the_image_by_name(loop):
     result = recognize(executor, client, timeout=30)
     assert result["status"] == "no_image" and result["views"] == 0  # its usual status
     assert rec.loop.counts["rejected"] >= 2 and rec.loop.counts["classified"] == 0
-    assert "no transform of the image's frame from TF for its stamp within pose_wait (0.2 s)" in \
-        rec.refuse.latest["depth/image"]
+    why = rec.refuse.latest["depth/image"]
+    assert "no transform camera_depth_optical_frame -> object (" in why and "within pose_wait (0.2 s)" in why
 
 
 def test_a_transform_30_ms_late_is_waited_for(loop):
@@ -121,3 +121,18 @@ def test_without_tf2_ros_the_node_says_how_to_get_it(monkeypatch):
         ImportError("No module named 'tf2_ros'")) if name == "tf2_ros" else real(name, *a, **k))
     with pytest.raises(InputError, match="pose_source: tf and planning_frame need tf2_ros.*build_interfaces.sh"):
         tf_poses.imported_tf2()
+
+
+def test_with_tf_a_camera_pose_topic_is_not_read_and_the_refusal_names_the_frames(loop):
+    """A camera that publishes camera/pose and no TF: pose_source tf does not take the topic's
+    poses (a relay left from before would otherwise pass for TF); each image is refused with
+    tf2's reason, and /diagnostics counts it unmatched."""
+    executor, rec, cam, client, views = loop(recognizer={"pose_wait": 0.2, "max_retries": 0},
+                                             camera={"publish_tf": False, "publish_pose": True})
+    assert [s.topic for s in rec.inputs] == ["/depth/camera_info", "/depth/image"]
+    result = recognize(executor, client, timeout=30)
+    assert result["status"] == "no_image" and rec.loop.counts["matched"] == 0
+    why = rec.refuse.latest["depth/image"]
+    assert "transform camera_depth_optical_frame -> object" in why and "does not exist" in why, why
+    values = rec.loop.report(rec.now())[2]
+    assert values["images matched to a measured pose (%)"] == 0.0 and rec.loop.counts["unmatched"] >= 2

@@ -66,14 +66,14 @@ class SensorSubscription:
 
 
 class CameraInputs(list):
-    """A depth camera's three subscriptions: depth/camera_info, camera/pose and depth/image, in
-    that order (when all three are ready at once the executor takes them so: an image finds its
-    K and pose), each calling its callback."""
+    """A depth camera's subscriptions: depth/camera_info, camera/pose (none where on_pose is
+    None) and depth/image, in that order (when all are ready at once the executor takes them so:
+    an image finds its K and pose), each calling its callback."""
 
     def __init__(self, node, on_info, on_pose, on_image, mode="auto"):
         super().__init__(SensorSubscription(node, kind, topic, callback, mode) for kind, topic, callback in
                          ((CameraInfo, "depth/camera_info", on_info), (PoseStamped, "camera/pose", on_pose),
-                          (Image, "depth/image", on_image)))
+                          (Image, "depth/image", on_image)) if callback is not None)
         self.node, self.followed = node, time.monotonic()
 
     def follow(self):

@@ -104,8 +104,8 @@ class Recognizer(LifecycleNode):
         """Open the inputs, send the latched outputs; an episode paused by deactivate goes on
         (its view asked for again, its time without the pause)."""
         super().on_activate(state)  # the lifecycle publishers send from here
-        self.inputs = CameraInputs(self, *(guarded(self, f) for f in (self.on_info, self.on_pose, self.on_image)),
-                                   mode=self.image_qos)
+        calls = (self.on_info, None if self.tf.on else self.on_pose, self.on_image)  # pose_source tf: TF's only
+        self.inputs = CameraInputs(self, *(f and guarded(self, f) for f in calls), mode=self.image_qos)
         self.timer = self.create_timer(0.01, guarded(self, self.on_timer))
         self.outputs.latched()
         self.get_logger().info(f"recognizer ready: {len(self.core.classes)} classes, planner {self.core.planner}")

@@ -68,7 +68,8 @@ class TfPoses:
             return []
         header = loop.pending.header
         found = self.lookup(loop.frame, header.frame_id, header.stamp)
-        if isinstance(found, str):
+        if isinstance(found, str):  # why, for the refusal if it never comes
+            loop.pose_from = f"transform {header.frame_id} -> {loop.frame} ({' '.join(found.split())})"
             return []
         return loop.pose(now, loop.frame, ma.stamp_seconds(header.stamp), *found)
 
