@@ -313,10 +313,15 @@ def standard_error(ro: Rollout, shared=False, views=3):
     """Standard error of the accuracy after `views` views, with the starts of one object as one
     sample (they are not independent): std of the per-object accuracies / sqrt(objects)."""
     probs = ro.shared_probs if shared else ro.probs
-    correct = probs[:, views - 1].argmax(-1) == ro.labels
-    objects, inverse = np.unique(ro.objects, return_inverse=True)
+    return round(object_standard_error(ro.objects, probs[:, views - 1].argmax(-1) == ro.labels), 4)
+
+
+def object_standard_error(objects, correct):
+    """Standard error of an accuracy over episodes of `objects` (N,) with `correct` (N,), the
+    episodes of one object one sample: std of the per-object accuracies / sqrt(objects)."""
+    ids, inverse = np.unique(objects, return_inverse=True)
     per_object = np.bincount(inverse, correct) / np.bincount(inverse)
-    return round(float(per_object.std(ddof=1) / np.sqrt(len(objects))), 4) if len(objects) > 1 else 0.0
+    return float(per_object.std(ddof=1) / np.sqrt(len(ids))) if len(ids) > 1 else 0.0
 
 
 def compare_runs(checkpoints, planners=("learned", "random", "straight"), starts=3, seed=0,

@@ -7,7 +7,7 @@ rule, accuracy, views, travel and robot seconds (mean and p90); and accuracy wit
 robot seconds, an episode answering with what it has when its next view would overrun the
 budget (or when its stop rule stops it first). The cost model (robot_time.RobotTime): a capture
 per view, a settle per move, the great-circle travel at a steady angular speed. Every accuracy
-with its standard error, the starts of one object one sample (evaluate.standard_error's rule).
+with its standard error, the starts of one object one sample (evaluate.object_standard_error).
 
     python benchmarks/robot_seconds.py [--per-object CSV] [--capture-s 0.1 --settle-s 0.5 --rad-per-s 0.5]
 
@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 from common import RESULTS, emit, one_line_errors
 
+from active_recognition.evaluate import object_standard_error
 from active_recognition.geometry import travel
 from active_recognition.report import write_json
 from active_recognition.robot_time import RobotTime
@@ -44,13 +45,6 @@ def episodes(path):
     return out
 
 
-def error(objects, correct):
-    """Standard error of an accuracy, the starts of one object as one sample."""
-    ids, inverse = np.unique(objects, return_inverse=True)
-    per_object = np.bincount(inverse, correct) / np.bincount(inverse)
-    return float(per_object.std(ddof=1) / math.sqrt(len(ids))) if len(ids) > 1 else 0.0
-
-
 def within(cost, views, stop, budget):
     """Views an episode takes within `budget` robot seconds (the first always), at most `stop`."""
     return taken_within(spent(cost, views), stop, budget)
@@ -72,7 +66,7 @@ def planner_figures(cost, rows):
         out[f"travel_deg_{k}"] = float(np.mean([math.degrees(travel(r[5][:k])) for r in rows]))
     stopped = [(r[1] == r[3], r[2], travel(r[5][:r[2]]), cost.seconds(r[5][:r[2]])) for r in rows]
     correct, views, moved, seconds = (np.array(x, dtype=float) for x in zip(*stopped))
-    out.update({"stop_accuracy": float(correct.mean()), "stop_accuracy_se": error(objects, correct),
+    out.update({"stop_accuracy": float(correct.mean()), "stop_accuracy_se": object_standard_error(objects, correct),
                 "stop_views": float(views.mean()), "stop_travel_deg": float(np.degrees(moved).mean()),
                 "stop_seconds_mean": float(seconds.mean()), "stop_seconds_p90": float(np.percentile(seconds, 90))})
     cumulative = [spent(cost, r[5]) for r in rows]
@@ -80,7 +74,7 @@ def planner_figures(cost, rows):
         taken = [taken_within(c, r[2], budget) for r, c in zip(rows, cumulative)]
         right = np.array([r[1] == r[4][n - 1] for r, n in zip(rows, taken)], dtype=float)
         out[f"budget_{budget:g}_accuracy"] = float(right.mean())
-        out[f"budget_{budget:g}_accuracy_se"] = error(objects, right)
+        out[f"budget_{budget:g}_accuracy_se"] = object_standard_error(objects, right)
     return out
 
 
