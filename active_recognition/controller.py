@@ -21,11 +21,12 @@ import numpy as np
 
 from . import plausible
 from .commands import AskView, End, Refuse, Step
-from .episode import MAX_VIEWS
+from .episode import EpisodeConfig
 from .geometry import Intrinsics, travel
 from .health import Health
+from .recognizer import SensingConfig
 from .robot_time import RobotTime
-from .validation import InputError, option, validate
+from .validation import InputError, checks, option, validate
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
 IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
@@ -79,14 +80,15 @@ class Pending:
 
 
 def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
-    """Refuse (InputError) a start the loop cannot run: a size, a view count or a budget out of
-    range (0 keeps the node's)."""
-    if not 0 <= time_budget <= 86400:
-        raise InputError(f"time_budget must be 0 (the node's) to 86400 robot seconds, got {time_budget}")
-    if not (object_size == 0 or 1e-3 <= object_size <= 100):  # NaN too
-        raise InputError(f"object_size must be 0 (the node's) or 0.001 to 100 m, got {object_size}")
-    if not 0 <= max_views <= MAX_VIEWS:
-        raise InputError(f"max_views must be 0 (the node's) to {MAX_VIEWS}, got {max_views}")
+    """Refuse (InputError) a start the loop cannot run: a size, a view count or a budget outside
+    its parameter's range (0 keeps the node's)."""
+    for name, value, config, unit in (("time_budget", time_budget, Timing, " robot seconds"),
+                                      ("object_size", object_size, SensingConfig, " m"),
+                                      ("max_views", max_views, EpisodeConfig, "")):
+        check = checks(config)[name]
+        if not (value == 0 or check.lo <= value <= check.hi):  # NaN too
+            lo = "" if check.lo == 0 else f" or {check.lo:g}"
+            raise InputError(f"{name} must be 0 (the node's){lo} to {check.hi:g}{unit}, got {value}")
 
 
 class Controller:
