@@ -147,6 +147,29 @@ def position_to_pose(position, optical_rotation, frame_id="object", stamp=None) 
     return msg
 
 
+def position_to_transform(position, rotation, parent, child, stamp=None):
+    """A frame's position (3,) and rotation (3, 3) in `parent` -> geometry_msgs/TransformStamped
+    of frame `child` (what a TF broadcaster sends)."""
+    from geometry_msgs.msg import TransformStamped
+
+    msg = TransformStamped()
+    msg.header.frame_id, msg.child_frame_id = parent, child
+    if stamp is not None:
+        msg.header.stamp = stamp
+    t, r = msg.transform.translation, msg.transform.rotation
+    t.x, t.y, t.z = (float(v) for v in position)
+    r.x, r.y, r.z, r.w = (float(v) for v in geometry.matrix_to_quaternion(rotation))
+    return msg
+
+
+def transform_to_camera(transform):
+    """geometry_msgs/Transform (as tf2 gives it) -> (position (3,), rotation (3, 3)) of the frame
+    it maps from; the quaternion normalised."""
+    t, q = transform.translation, transform.rotation
+    q = np.array([q.x, q.y, q.z, q.w], dtype=np.float64)
+    return np.array([t.x, t.y, t.z], dtype=np.float64), geometry.quaternion_to_matrix(q / np.linalg.norm(q))
+
+
 def pose_to_camera(msg: PoseStamped):
     """PoseStamped -> (position (3,), optical rotation (3, 3)); any pose, validated."""
     p, o = msg.pose.position, msg.pose.orientation

@@ -81,6 +81,26 @@ def bad_pose(**kw):
     return msg
 
 
+def test_transform_round_trip_against_the_pose_adapters(rng):
+    """A frame's position and rotation through a TransformStamped come back as they went, and
+    agree with the PoseStamped of the same pose; a slightly unnormalised quaternion (as TF may
+    carry) is normalised."""
+    for _ in range(5):
+        theta, phi = rng.uniform(0.1, 3.0), rng.uniform(-3.0, 3.0)
+        position, rotation = rng.normal(size=3), geometry.optical_rotation(theta, phi)
+        msg = ma.position_to_transform(position, rotation, "world", "camera", ma.seconds_to_stamp(12.5))
+        header = (msg.header.frame_id, msg.child_frame_id, ma.stamp_seconds(msg.header.stamp))
+        assert header == ("world", "camera", 12.5)
+        back = ma.transform_to_camera(msg.transform)
+        np.testing.assert_allclose(back[0], position, atol=1e-12)
+        np.testing.assert_allclose(back[1], rotation, atol=1e-9)
+        pose = ma.pose_to_camera(ma.position_to_pose(position, rotation))
+        np.testing.assert_allclose(back[1], pose[1], atol=1e-12)
+    q = msg.transform.rotation
+    q.x, q.y, q.z, q.w = 1.01 * q.x, 1.01 * q.y, 1.01 * q.z, 1.01 * q.w
+    np.testing.assert_allclose(ma.transform_to_camera(msg.transform)[1], back[1], atol=1e-9)
+
+
 @pytest.mark.parametrize("msg,reason", [
     (bad_pose(position__x=float("nan")), "NaN or infinite"),
     (bad_pose(orientation__w=float("inf")), "NaN or infinite"),

@@ -8,10 +8,8 @@ where TF is asked for)."""
 import math
 
 import numpy as np
-from geometry_msgs.msg import TransformStamped
 
 import msg_adapters as ma
-from active_recognition import geometry
 from active_recognition.nodes.tf_poses import imported_tf2
 from active_recognition.validation import InputError
 
@@ -21,17 +19,6 @@ def object_in_world(config):
     c, s = math.cos(math.radians(config.object_yaw)), math.sin(math.radians(config.object_yaw))
     return (np.array([config.object_x, config.object_y, config.object_z]),
             np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]))
-
-
-def transform(parent, child, position, rotation, stamp):
-    msg = TransformStamped()
-    msg.header.frame_id, msg.header.stamp, msg.child_frame_id = parent, stamp, child
-    msg.transform.translation.x, msg.transform.translation.y, msg.transform.translation.z = \
-        (float(v) for v in position)
-    q = geometry.matrix_to_quaternion(rotation)
-    r = msg.transform.rotation
-    r.x, r.y, r.z, r.w = (float(v) for v in q)
-    return msg
 
 
 class CameraTf:
@@ -44,8 +31,8 @@ class CameraTf:
             self.broadcaster = tf2_ros.TransformBroadcaster(node)
             if self.world is not None:  # the object's place, once and for all (latched)
                 self.static = tf2_ros.StaticTransformBroadcaster(node)
-                self.static.sendTransform(transform(config.world_frame, config.object_frame, *self.world,
-                                                    node.get_clock().now().to_msg()))
+                self.static.sendTransform(ma.position_to_transform(
+                    *self.world, config.world_frame, config.object_frame, node.get_clock().now().to_msg()))
 
     def in_object(self, msg):
         """(position, optical rotation) in the object frame of a requested PoseStamped."""
@@ -73,7 +60,7 @@ class CameraTf:
         if self.world is not None:
             t, r = self.world
             position, rotation, parent = r @ position + t, r @ rotation, self.config.world_frame
-        msg = transform(parent, self.optical_frame, position, rotation, stamp)
+        msg = ma.position_to_transform(position, rotation, parent, self.optical_frame, stamp)
         if self.config.tf_delay <= 0:
             return self.broadcaster.sendTransform(msg)
         timer = None

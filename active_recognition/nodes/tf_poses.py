@@ -9,12 +9,10 @@ controller's), and `poll` hands it over as soon as the buffer has it. With a `pl
 next_view goes out in that frame, through the latest transform from the object frame. Where
 neither is asked for, tf2_ros is not needed and not imported.
 """
-import numpy as np
 from geometry_msgs.msg import PoseStamped
 from rclpy.time import Time
 
 import msg_adapters as ma
-from active_recognition import geometry
 from active_recognition.validation import InputError
 
 HOW = ("bash tools/build_interfaces.sh builds it from ROS 2 Jazzy's geometry2 sources; on a ROS "
@@ -29,13 +27,6 @@ def imported_tf2():
         raise InputError(f"pose_source: tf and planning_frame need tf2_ros, which cannot be imported "
                          f"here ({e}): {HOW}") from e
     return tf2_ros
-
-
-def transform_to_camera(transform):
-    """geometry_msgs/Transform -> (position (3,), rotation (3, 3)): the pose it maps from."""
-    t, q = transform.translation, transform.rotation
-    q = np.array([q.x, q.y, q.z, q.w])
-    return np.array([t.x, t.y, t.z]), geometry.quaternion_to_matrix(q / np.linalg.norm(q))
 
 
 class TfPoses:
@@ -59,7 +50,7 @@ class TfPoses:
         ok, why = self.buffer.can_transform_core(target, source, time)
         if not ok:
             return why or f"no transform from {source} to {target}"
-        return transform_to_camera(self.buffer.lookup_transform_core(target, source, time).transform)
+        return ma.transform_to_camera(self.buffer.lookup_transform_core(target, source, time).transform)
 
     def poll(self, loop, now):
         """The controller's commands for the transform of the image it waits for, once TF has it
@@ -75,25 +66,16 @@ class TfPoses:
 
     def view(self, ask):
         """The next_view PoseStamped of a controller.AskView (None: an empty one), in the planning
-        frame where one is set and TF has it (else in the object frame, the refusal logged)."""
+        frame where one is set and TF has the transform from the object frame (else in the object
+        frame, the refusal logged, named `planning_frame`)."""
         if ask is None:
             return PoseStamped()
-        msg = ma.position_to_pose(ask.position, ask.rotation, ask.frame, ma.seconds_to_stamp(ask.stamp))
-        try:
-            return self.planned(msg)
-        except InputError as e:
-            self.node.refuse("planning_frame", str(e))
-            return msg
-
-    def planned(self, msg):
-        """A PoseStamped in the planning frame (as it is without one, or in it already);
-        InputError naming the frames while TF has no transform between them."""
-        if not self.planning_frame or msg.header.frame_id == self.planning_frame:
-            return msg
-        found = self.lookup(self.planning_frame, msg.header.frame_id, Time().to_msg())
-        if isinstance(found, str):
-            raise InputError(f"next_view: no transform from {msg.header.frame_id} to planning_frame "
-                             f"{self.planning_frame}: {found}")
-        position, rotation = ma.pose_to_camera(msg)
-        return ma.position_to_pose(found[1] @ position + found[0], found[1] @ rotation,
-                                   self.planning_frame, msg.header.stamp)
+        position, rotation, frame = ask.position, ask.rotation, ask.frame
+        if self.planning_frame and frame != self.planning_frame:
+            found = self.lookup(self.planning_frame, frame, Time().to_msg())  # the latest
+            if isinstance(found, str):
+                self.node.refuse("planning_frame", f"next_view: no transform from {frame} to planning_frame "
+                                                   f"{self.planning_frame}: {found}")
+            else:
+                position, rotation, frame = found[1] @ position + found[0], found[1] @ rotation, self.planning_frame
+        return ma.position_to_pose(position, rotation, frame, ma.seconds_to_stamp(ask.stamp))
