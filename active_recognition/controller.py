@@ -336,10 +336,10 @@ class Controller:
             self.counts["classified"] += 1
             self.counts["matched"] += found is not None  # to its measured pose
             self.header = p.header
-            taken = self.core.views_taken()
-            if last is None and self.budget and \
-                    self.cost.seconds(taken) + self.cost.next_view(taken, self.core.view) > self.budget:
-                last = self.core.finish()  # the next view would overrun the budget: answer now
+            if last is None and self.budget:
+                taken = self.core.views_taken()
+                if self.cost.seconds(taken) + self.cost.next_view(taken, self.core.view) > self.budget:
+                    last = self.core.finish()  # the next view would overrun the budget: answer now
             ask = None if last is not None else self.ask(now)
             out += [ask] if ask is not None else []
             out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now),
