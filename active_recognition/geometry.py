@@ -257,6 +257,19 @@ def rotation_from_optical(optical):
     return np.stack([-o[:, 1], -o[:, 0], -o[:, 2]], -1)
 
 
+def moved(position, rotation, frame):
+    """A pose (position (3,), rotation (3, 3)) given in a frame whose own pose in its parent is
+    `frame` = (position, rotation): the same pose in the parent."""
+    t, r = frame
+    return r @ np.asarray(position, dtype=np.float64) + t, r @ rotation
+
+
+def inverse(frame):
+    """The pose (position, rotation) of a frame's parent in the frame."""
+    t, r = frame
+    return -r.T @ t, r.T
+
+
 def travel(views):
     """Radians a camera turns about the object's centre along views (N, 2) (theta, phi), each
     move along the great circle: the sum of the angles between successive views."""

@@ -105,3 +105,20 @@ def test_view_rotation_derivatives_match_finite_differences(rng):
     dp = (g.view_rotation(t, p + h) - g.view_rotation(t, p - h)) / (2 * h)
     np.testing.assert_allclose(d[:, 0], dt, atol=1e-8)
     np.testing.assert_allclose(d[:, 1], dp, atol=1e-8)
+
+
+def test_moved_and_inverse_against_a_homogeneous_transform(rng):
+    for _ in range(5):
+        t, r = rng.normal(size=3), g.view_rotation(rng.uniform(0, np.pi), rng.uniform(-np.pi, np.pi))
+        position, rotation = rng.normal(size=3), g.optical_rotation(*rng.uniform(0.1, 3.0, 2))
+        h = np.eye(4)
+        h[:3, :3], h[:3, 3] = r, t
+        pose = np.eye(4)
+        pose[:3, :3], pose[:3, 3] = rotation, position
+        moved = h @ pose
+        got = g.moved(position, rotation, (t, r))
+        np.testing.assert_allclose(got[0], moved[:3, 3], atol=1e-12)
+        np.testing.assert_allclose(got[1], moved[:3, :3], atol=1e-12)
+        back = np.linalg.inv(h)
+        np.testing.assert_allclose(g.inverse((t, r))[0], back[:3, 3], atol=1e-12)
+        np.testing.assert_allclose(g.inverse((t, r))[1], back[:3, :3], atol=1e-12)

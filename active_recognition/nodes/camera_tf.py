@@ -10,15 +10,16 @@ import math
 import numpy as np
 
 import msg_adapters as ma
+from active_recognition import geometry
+from active_recognition.meshes import yaw_matrix
 from active_recognition.nodes.tf_poses import imported_tf2
 from active_recognition.validation import InputError
 
 
 def object_in_world(config):
     """(position (3,), rotation (3, 3)) of the object frame in the world frame."""
-    c, s = math.cos(math.radians(config.object_yaw)), math.sin(math.radians(config.object_yaw))
     return (np.array([config.object_x, config.object_y, config.object_z]),
-            np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]))
+            yaw_matrix(math.radians(config.object_yaw)).T)  # yaw_matrix turns row vectors
 
 
 class CameraTf:
@@ -39,8 +40,7 @@ class CameraTf:
         position, rotation = ma.pose_to_camera(msg)
         frame = msg.header.frame_id
         if self.world is not None and frame == self.config.world_frame:
-            t, r = self.world
-            return r.T @ (position - t), r.T @ rotation
+            return geometry.moved(position, rotation, geometry.inverse(self.world))
         if self.broadcaster is not None and frame != self.config.object_frame:
             raise InputError(f"frame {frame!r} is neither object_frame {self.config.object_frame!r} nor "
                              f"world_frame {self.config.world_frame!r}")
@@ -58,8 +58,7 @@ class CameraTf:
             return
         parent = self.config.object_frame
         if self.world is not None:
-            t, r = self.world
-            position, rotation, parent = r @ position + t, r @ rotation, self.config.world_frame
+            (position, rotation), parent = geometry.moved(position, rotation, self.world), self.config.world_frame
         msg = ma.position_to_transform(position, rotation, parent, self.optical_frame, stamp)
         if self.config.tf_delay <= 0:
             return self.broadcaster.sendTransform(msg)

@@ -13,6 +13,7 @@ from geometry_msgs.msg import PoseStamped
 from rclpy.time import Time
 
 import msg_adapters as ma
+from active_recognition import geometry
 from active_recognition.validation import InputError
 
 HOW = ("bash tools/build_interfaces.sh builds it from ROS 2 Jazzy's geometry2 sources; on a ROS "
@@ -77,5 +78,5 @@ class TfPoses:
                 self.node.refuse("planning_frame", f"next_view: no transform from {frame} to planning_frame "
                                                    f"{self.planning_frame}: {found}")
             else:
-                position, rotation, frame = found[1] @ position + found[0], found[1] @ rotation, self.planning_frame
+                (position, rotation), frame = geometry.moved(position, rotation, found), self.planning_frame
         return ma.position_to_pose(position, rotation, frame, ma.seconds_to_stamp(ask.stamp))
