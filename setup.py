@@ -32,7 +32,7 @@ setup(
     name=package_name,
     version="0.1.0",
     packages=find_packages(exclude=["test", "test.*", "benchmarks"]),
-    package_data={package_name: ["checkpoints/*.pt"]},
+    package_data={package_name: ["checkpoints/*.pt", "datasets/real_unknowns.tsv"]},
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
         ("share/" + package_name, ["package.xml"]),
@@ -44,7 +44,8 @@ setup(
     install_requires=["setuptools", "numpy>=1.24", "torch>=2.1", "trimesh>=4.0", "embreex>=2.17",
                       "tqdm", "matplotlib", "pyyaml", "shapely>=2", "mapbox-earcut"],
     # ROS 2 from PyPI wheels; a real ROS 2 install provides rclpy and the messages instead
-    extras_require={"ros": ros, "msgs": msgs,
+    # data: tools/fetch_real_unknowns.py reads COLLADA (.dae) meshes through pycollada
+    extras_require={"ros": ros, "msgs": msgs, "data": ["pycollada"],
                     "test": ["pytest>=7", "pytest-xdist>=3", "rosdep"] + lint + colcon + msgs},
     zip_safe=True,
     maintainer="active_recognition maintainers",

@@ -8,17 +8,20 @@ stored thresholds and hold, object_size read, views from 0 to 90 degrees of elev
 
 benchmarks/open_set.py measures the scores on the model's own renders; this one the shipped
 operating point through a camera: `virtual` (64x64, no noise) or `realsense` (640x480, noise,
-holes, 2 degrees of arm error). Known objects are a seeded draw of ModelNet10's test split, each
-at its own size; unknown ones a seeded draw of the generated unknowns' test styles at their size
-as built; each kept within 0.3 to 3 m (camera_episodes.py). Prints, and writes to
-docs/results/modelnet10/open_set_camera.json (a partial run must give --out), the share of each
+holes, 2 degrees of arm error). Known objects are ModelNet10's test split (or a seeded draw of
+it), each at its own size; unknown ones the generated unknowns' test styles at their size as
+built, or with `--unknowns real_unknowns` the real meshes' test split (datasets/real_unknowns.py,
+rebuilt under --unknowns-root by tools/fetch_real_unknowns.py) at their size in metres, with the
+furniture-like (`near`) ones also alone; each kept within 0.3 to 3 m (camera_episodes.py).
+Prints, and writes to docs/results/modelnet10/open_set_camera.json (open_set_camera_real.json
+for real unknowns; a partial run must give --out), the share of each
 group answered `unknown`, the other statuses, the known accuracy (an `unknown` answer wrong),
 and the AUROC and FPR@95 of the running prototype score at each episode's end; and the first
 three as a robot allowed 3, 6 or 9 classified images would have them (`cut`: the answer after
 that image, `unknown` where the running score is above that step's threshold; an episode that
 ended sooner as it ended). Last line is JSON.
 
-    python benchmarks/open_set_camera.py --root ~/data/ModelNet10 [--camera realsense] [--objects 450]
+    python benchmarks/open_set_camera.py --root ~/data/ModelNet10 [--unknowns real_unknowns --unknowns-root DIR]
 """
 import argparse
 from collections import Counter
@@ -30,6 +33,7 @@ from common import emit, one_line_errors, output, results_dir
 from active_recognition import checkpoint, open_set
 from active_recognition.camera_episodes import camera_runs
 from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluate import EvalConfig
 from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
@@ -37,7 +41,7 @@ from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.report import write_json
 from active_recognition.simulated_camera import PRESETS
 
-OBJECTS_DEFAULT = 450  # of each group: every unknown test object (AUROC s.e. near 0.006; 200: 0.009)
+OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or 83 real unknowns)
 CUTS = (3, 6, 9)
 
 
@@ -52,9 +56,11 @@ def cut(run, t, thresholds):
 
 def run(ap, args):
     partial = [flag for flag, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
-                                     ("--checkpoint", args.checkpoint), ("--camera", args.camera != "realsense"))
+                                     ("--checkpoint", args.checkpoint), ("--camera", args.camera != "realsense"),
+                                     ("--unknowns-root", args.unknowns != "real_unknowns" and args.unknowns_root))
                if on]
-    args.out = output(ap, args.out, str(results_dir("modelnet") / "open_set_camera.json"), partial)
+    name = "open_set_camera_real.json" if args.unknowns == "real_unknowns" else "open_set_camera.json"
+    args.out = output(ap, args.out, str(results_dir("modelnet") / name), partial)
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model = checkpoint.load_model(path)[0]
     if model.open_set is None:
@@ -62,17 +68,21 @@ def run(ap, args):
     node = RecognizerParameters()  # the node's defaults
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, node.sensing, node.limits)
     groups, cuts = {}, {}
-    for group, dataset, root in (("known", "modelnet", args.root), ("unknown", "unknowns", None)):
+    for group, dataset, root in (("known", "modelnet", args.root), ("unknown", args.unknowns, args.unknowns_root)):
         test = open_dataset(dataset, root, "test", cache_dir=default_cache_dir())
-        if not 1 <= args.objects <= len(test):
-            ap.error(f"--objects must be 1..{len(test)} (the {dataset} test objects)")
-        objects = np.sort(np.random.default_rng(args.seed).permutation(len(test))[:args.objects])
+        if args.objects < 0:
+            ap.error("--objects must be 0 (all) or more")
+        objects = np.sort(np.random.default_rng(args.seed).permutation(len(test))[:args.objects or len(test)])
+        if group == "unknown":
+            near = np.array([dataset == "real_unknowns" and is_near(test, i) for i in objects])
         runs = camera_runs(core, test, dataset, "test", objects, args.camera, args.seed, root, record=True)
-        groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]))
+        groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]),
+                         [test.classes[test.items[int(i)][1]] for i in objects])
         cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"]) for r in runs]) for t in CUTS}
-    (ks, kr, kscore), (us, _, uscore) = groups["known"], groups["unknown"]
+    (ks, kr, kscore, _), (us, _, uscore, _) = groups["known"], groups["unknown"]
     seen = np.isfinite(kscore), np.isfinite(uscore)
-    record = {"camera": args.camera, "checkpoint": path.name, "planner": core.planner, "objects": args.objects,
+    record = {"camera": args.camera, "checkpoint": path.name, "planner": core.planner, "unknowns": args.unknowns,
+              "objects": {g: len(groups[g][0]) for g in groups},
               "seed": args.seed, "known_rejected": round(float(np.mean(np.array(ks) == "unknown")), 4),
               "unknown_flagged": round(float(np.mean(np.array(us) == "unknown")), 4),
               "known_accuracy": round(float(np.mean(kr)), 4),
@@ -82,21 +92,32 @@ def run(ap, args):
               "cut": {name: {str(t): round(float(cuts[g][t][:, col].mean()), 4) for t in CUTS}
                       for name, g, col in (("known_rejected", "known", 0), ("unknown_flagged", "unknown", 0),
                                            ("known_accuracy", "known", 1))}}
+    if near.any():  # the furniture-like unknowns alone
+        record["near"] = {"objects": int(near.sum()),
+                          "unknown_flagged": round(float(np.mean(np.array(us)[near] == "unknown")), 4),
+                          "auroc": round(open_set.auroc(kscore[seen[0]], uscore[near & seen[1]]), 4),
+                          "classes": dict(Counter(np.array(groups["unknown"][3])[near]))}
     print(f"{args.camera}: known answered unknown {record['known_rejected']:.1%}, unknown answered unknown "
           f"{record['unknown_flagged']:.1%}, known accuracy {record['known_accuracy']:.1%}; AUROC "
           f"{record['auroc']:.3f}, FPR@95 {record['fpr95']:.3f}; statuses {record['statuses']}; cut after "
-          f"{'/'.join(map(str, CUTS))} images: {record['cut']}")
+          f"{'/'.join(map(str, CUTS))} images: {record['cut']}"
+          + (f"; near unknowns ({record['near']['objects']}): answered unknown "
+             f"{record['near']['unknown_flagged']:.1%}, AUROC {record['near']['auroc']:.3f}" if "near" in record else ""))
     if args.out:
         write_json(Path(args.out), record)
-    emit({k: v for k, v in record.items() if k not in ("statuses", "cut")})
+    emit({k: v for k, v in record.items() if k not in ("statuses", "cut", "near", "objects")})
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     add_flags(ap, EvalConfig, ["root", "checkpoint", "seed"], root={"required": True})
     ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
-                    help=f"known and unknown test objects each (seeded draw; default {OBJECTS_DEFAULT})")
+                    help="known and unknown test objects each (a seeded draw; default 0: every one)")
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    ap.add_argument("--unknowns", default="unknowns", choices=("unknowns", "real_unknowns"),
+                    help="the unknown objects: generated (unknowns) or real meshes (real_unknowns, under "
+                    "--unknowns-root: tools/fetch_real_unknowns.py)")
+    ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/open_set_camera.json; a partial run must give it)")
     args = ap.parse_args(argv)

@@ -5,8 +5,9 @@
 it: every val object shot through a simulated camera and the recognizer's own path
 (SimulatedCamera -> ActiveRecognizer.observe; camera_episodes.py), `--starts` seeded starts each
 (the same for every planner), 10 views without a stop or a hold; the unknowns' val styles
-(datasets/unknowns.py) beside them; the AUROCs compare both groups' first start. Test objects
-are never read.
+(datasets/unknowns.py), or with `--unknowns real_unknowns` the real meshes' val split
+(datasets/real_unknowns.py), beside them; the AUROCs compare both groups' first start. Test
+objects are never read.
 
 Prints, per planner, the accuracy after 3, 6 and 9 views (the closed-set answer) and its mean,
 the paired difference of that mean from the checkpoint's default planner (or --reference's),
@@ -36,6 +37,7 @@ from common import emit, one_line_errors, output, results_dir
 from active_recognition import checkpoint, open_set
 from active_recognition.camera_episodes import camera_runs, recording_core
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
+from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluate import EvalConfig
 from active_recognition.options import add_flags
 from active_recognition.recognizer import NODE_PLANNERS
@@ -75,27 +77,31 @@ def end_scores(runs, t):
 
 def planner_runs(path, planner, groups, preset, starts, seed):
     """{known: [runs of each start], unknown: runs} of one planner (a core of its own, seeded 0);
-    groups: ((dataset, name, root, count), (dataset, name, count))."""
+    groups: ((dataset, name, root, count), (dataset, name, root, count))."""
     core = recording_core(path, planner, STEPS)
-    (known, kname, root, nk), (unknown, uname, nu) = groups
+    (known, kname, root, nk), (unknown, uname, uroot, nu) = groups
     runs = {"known": [camera_runs(core, known, kname, "val", np.arange(nk), preset, seed + s, root, record=True)
                       for s in range(starts)]}
-    runs["unknown"] = camera_runs(core, unknown, uname, "val", np.arange(nu), preset, seed, record=True)
+    runs["unknown"] = camera_runs(core, unknown, uname, "val", np.arange(nu), preset, seed, uroot, record=True)
     return runs
 
 
-def summarise(runs):
-    """One planner's accuracies, per-episode right (episodes, cuts) and AUROCs."""
+def summarise(runs, near=None):
+    """One planner's accuracies, per-episode right (episodes, cuts) and AUROCs (and, given the
+    unknowns' `near` mask, the AUROCs of the near ones alone)."""
     right = np.concatenate([answers(r)[:, [c - 1 for c in CUTS]] == np.array([x.label for x in r])[:, None]
                             for r in runs["known"]])
     first, unknown = runs["known"][0], runs["unknown"]
-    auroc = {}
+    auroc, auroc_near = {}, {}
     for t in AUROC_AT:
         k, u = end_scores(first, t), end_scores(unknown, t)
         for name in k:
             auroc.setdefault(name, []).append(round(open_set.auroc(k[name], u[name]), 4))
+            if near is not None and near.any():
+                auroc_near.setdefault(name, []).append(round(open_set.auroc(k[name], u[name][near]), 4))
     return right, {"acc": {str(c): round(float(right[:, i].mean()), 4) for i, c in enumerate(CUTS)},
-                   "mean": round(float(right.mean()), 4), "episodes": len(right), "auroc": auroc}
+                   "mean": round(float(right.mean()), 4), "episodes": len(right), "auroc": auroc,
+                   **({"auroc_near": auroc_near} if auroc_near else {})}
 
 
 def paired(right, a, b):
@@ -135,7 +141,8 @@ def run(ap, args):
                                      ("--seed", args.seed != SEED), ("--checkpoint", args.checkpoint),
                                      ("--camera", args.camera != "realsense"),
                                      ("--planners", set(args.planners) != set(PLANNERS)),
-                                     ("--reference", args.reference)) if on]
+                                     ("--reference", args.reference),
+                                     ("--unknowns", args.unknowns != "unknowns")) if on]
     if args.ship and partial:
         ap.error(f"--ship records what the whole benchmark chose for the shipped model; leave out "
                  f"{', '.join(partial)}")
@@ -149,15 +156,19 @@ def run(ap, args):
         ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
     default = args.reference or ckpt.get("default_planner") or "learned"
     val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]
-    unknown = open_dataset("unknowns", split="val", cache_dir=default_cache_dir())
+    unknown = open_dataset(args.unknowns, args.unknowns_root, "val", cache_dir=default_cache_dir())
     nk, nu = (min(args.objects, len(d)) if args.objects else len(d) for d in (val, unknown))
+    near = (np.array([is_near(unknown, i) for i in range(nu)])
+            if args.unknowns == "real_unknowns" else None)
     rows, right = {}, {}
     for planner in dict.fromkeys((default, *args.planners)):
-        runs = planner_runs(path, planner, ((val, "modelnet", args.root, nk), (unknown, "unknowns", nu)), args.camera,
+        runs = planner_runs(path, planner, ((val, "modelnet", args.root, nk),
+                                            (unknown, args.unknowns, args.unknowns_root, nu)), args.camera,
                             args.starts, args.seed)
-        right[planner], rows[planner] = summarise(runs)
+        right[planner], rows[planner] = summarise(runs, near)
         print(f"{planner}: after 3/6/9 views {rows[planner]['acc']}, mean {rows[planner]['mean']:.4f} "
-              f"({rows[planner]['episodes']} episodes); AUROC after {AUROC_AT} views {rows[planner]['auroc']}",
+              f"({rows[planner]['episodes']} episodes); AUROC after {AUROC_AT} views {rows[planner]['auroc']}"
+              + (f"; near ones alone {rows[planner]['auroc_near']}" if "auroc_near" in rows[planner] else ""),
               flush=True)
     for planner in rows:
         rows[planner]["minus_default"], rows[planner]["minus_default_se"] = (
@@ -165,7 +176,8 @@ def run(ap, args):
         print(f"{planner} - {default}: {100 * rows[planner]['minus_default']:+.2f} points, paired s.e. "
               f"{100 * rows[planner]['minus_default_se']:.2f}")
     chosen, tied = rule(rows, right)
-    record = {"camera": args.camera, "checkpoint": path.name, "default": default, "starts": args.starts,
+    record = {"camera": args.camera, "checkpoint": path.name, "unknowns": args.unknowns,
+              "default": default, "starts": args.starts,
               "seed": args.seed, "known_objects": nk, "unknown_objects": nu, "planners": rows,
               "rule": {"chosen": chosen, "tied_with_the_best": tied}}
     print(f"rule: {chosen} (within one paired s.e. of the best mean: {', '.join(tied)}; of those the "
@@ -188,6 +200,10 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=SEED, help=f"first start's seed (default {SEED})")
     ap.add_argument("--objects", type=int, default=0, help="the first N val objects of each group (0: all)")
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    ap.add_argument("--unknowns", default="unknowns", choices=("unknowns", "real_unknowns"),
+                    help="the unknown objects' val split: generated (unknowns) or real meshes (real_unknowns, "
+                    "under --unknowns-root: tools/fetch_real_unknowns.py)")
+    ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/validation_camera.json; a partial run must give it)")
     ap.add_argument("--ship", action="store_true", help="record the chosen planner as the shipped model's "

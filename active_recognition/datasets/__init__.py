@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """Shape datasets: ModelNet, ShapeNetCore, a plain folder, the embedded benchmarks (procedural,
-twins) and the generated objects of no known class (unknowns, for open-set recognition)."""
+twins) and the objects of no known class for open-set recognition: generated (unknowns) or real meshes
+rebuilt from public repositories (real_unknowns)."""
 from __future__ import annotations
 
 import warnings
@@ -14,6 +15,7 @@ from .base import ShapeDataset, default_cache_dir
 from .folder import folder
 from .modelnet import modelnet
 from .procedural import procedural
+from .real_unknowns import real_unknowns
 from .shapenet import shapenet
 from .twins import twins
 from .unknowns import unknowns
@@ -21,9 +23,12 @@ from ..validation import InputError
 
 NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
 GENERATED = {"procedural": procedural, "twins": twins}
-# generated objects of no known class (open-set recognition), with a val split of their own
-# styles, not a tenth of train; opened by name like the others, but no model trains on them
-OPEN_SET = {"unknowns": unknowns}
+# objects of no known class (open-set recognition), with a val split of their own, not a tenth
+# of train; opened by name like the others, but no model trains on them. unknowns are generated,
+# real_unknowns read from files under a root (tools/fetch_real_unknowns.py rebuilds them)
+OPEN_SET = {"unknowns": unknowns, "real_unknowns": real_unknowns}
+LOADERS = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder,  # read from a root folder
+           "real_unknowns": real_unknowns}
 
 
 SPLITS = ("train", "val", "test", "cross")  # cross: a generated benchmark's held-out styles
@@ -63,18 +68,17 @@ def copy_of(ds: ShapeDataset):
 def read_split(name, root, source, cache_dir=None, validate=True, **kwargs):
     """One of the dataset's own splits (train, test, cross), as its loader reads it."""
     made = {**GENERATED, **OPEN_SET}
-    if name in made:
+    if name in made and name not in LOADERS:
         if root:
             raise InputError(f"the {name} dataset is generated: it takes no root folder "
-                             f"(got {root}); roots are for modelnet, shapenet and folder")
+                             f"(got {root}); roots are for {', '.join(LOADERS)}")
         return made[name](source, cache_dir=cache_dir, **kwargs)
-    loaders = {"modelnet": modelnet, "shapenet": shapenet, "folder": folder}
-    if name not in loaders:
+    if name not in LOADERS:
         raise InputError(f"dataset must be one of {', '.join(NAMES)}, got {name!r}")
-    if source == "cross":
+    if source == "cross" and name not in OPEN_SET:  # an open-set loader names its own splits
         raise InputError(f"the cross split (held-out styles) is a generated benchmark's; "
                          f"{name} has train, val and test")
-    ds = loaders[name](root, source, cache_dir=cache_dir, **kwargs)
+    ds = LOADERS[name](root, source, cache_dir=cache_dir, **kwargs)
     return ds.validate() if validate else ds
 
 
