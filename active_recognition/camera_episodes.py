@@ -38,19 +38,21 @@ class CameraRun:
     states: list
     energies: list
     prototypes: list
+    views: np.ndarray | None = None  # (V, 2) the views the images were taken from, in turn
 
 
-def recording_core(path, planner, steps, seed=0, use_size=True):
+def recording_core(path, planner, steps, seed=0, use_size=True, travel_cost=None):
     """A recognizer with the node's view limits and sensing whose episodes are recorded whole:
     `steps` images each, no entropy stop, no hold and no `unknown` answer (the evidence of every
-    step is kept: CameraRun)."""
+    step is kept: CameraRun); travel_cost: the imitation planner's (default: the node's)."""
     from .episode import EpisodeConfig
     from .node_params import RecognizerParameters
     from .recognizer import ActiveRecognizer
 
     node = RecognizerParameters()
     sensing = replace(node.sensing, use_size=use_size, unknown_threshold=0.0, hold_unknown=False)
-    return ActiveRecognizer(str(path), EpisodeConfig(steps, 0.0), seed, planner, sensing, node.limits)
+    cost = node.episode.travel_cost if travel_cost is None else travel_cost
+    return ActiveRecognizer(str(path), EpisodeConfig(steps, 0.0, cost), seed, planner, sensing, node.limits)
 
 
 def shown_size(ds, i):
@@ -86,7 +88,7 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
         runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
                               obs is not None and obs.status == "recognized" and obs.label == truth,
                               float(np.mean(core.prototypes)) if core.prototypes else float("nan"),
-                              probs, states, list(core.energies), list(core.prototypes)))
+                              probs, states, list(core.energies), list(core.prototypes), core.views_taken()))
     return runs
 
 

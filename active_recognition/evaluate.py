@@ -50,6 +50,8 @@ class EvalConfig:
     starts: int = option(1, lo=1, hi=50, help="initial views per object (a seeded sample of the 50)")
     steps: int = option(10, lo=1, hi=100, help="views per episode")
     entropy_threshold: float = option(0.1, lo=0, help="early-stop entropy (nats)")
+    travel_cost: float = option(0.0, lo=0, hi=100, help=(
+        "the imitation planner's price of travel: FC_view's log-score less this x radians"))
     seed: int = option(0, lo=0, hi=SEED_MAX, help="objects, initial views, random planner")
     out: str = option("runs/eval", length=(1, None), help="report folder")
     shared: bool = option(True, help="also score every planner with the shared multi-view "
@@ -140,7 +142,7 @@ def rollout(name, model, shapes, objects, starts, cfg: EvalConfig, chunk=100, fi
         planner = make_planner(name, cams, cfg.seed + b, cfg.oracle_candidates, model, fixed_path,
                                shapes.labels[idx])
         sizes = shapes.sizes(idx) if cfg.size and model.size_prior is not None else None
-        ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold), planner,
+        ep = Episode(model, EpisodeConfig(cfg.steps, cfg.entropy_threshold, cfg.travel_cost), planner,
                      reach=reach_of(cfg.limits), forward=forward)
         with torch.no_grad():
             run(ep, cams, initial[starts[b:b + chunk]], cfg.steps,

@@ -277,3 +277,11 @@ def travel(views):
     cos = np.sum(p[1:] * p[:-1], axis=-1)
     # atan2 of |a x b| and a . b: exact for small angles, where arccos of a near-1 cosine is not
     return float(np.sum(np.arctan2(np.linalg.norm(np.cross(p[1:], p[:-1]), axis=-1), cos)))
+
+
+def angles_to(views, targets):
+    """(B, K) great-circle angles (radians) from each view (B, 2) to each target view (K, 2)."""
+    a = camera_position(*np.asarray(views, dtype=np.float64).reshape(-1, 2).T)     # (B, 3)
+    b = camera_position(*np.asarray(targets, dtype=np.float64).reshape(-1, 2).T)   # (K, 3)
+    cross = np.linalg.norm(np.cross(a[:, None], b[None]), axis=-1)
+    return np.arctan2(cross, a @ b.T)

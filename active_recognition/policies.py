@@ -126,7 +126,8 @@ def exhausted(episode, candidates):
 
 
 class ImitationPlanner(Planner):
-    """FC_view's best-scored candidate view among those not yet visited (never a revisit)."""
+    """FC_view's best-scored candidate view among those not yet visited (never a revisit); with
+    the episode's travel_cost, the best of score - travel_cost x the angle to get there."""
 
     def __init__(self, model):
         if not getattr(model.config, "candidates", 0):
@@ -136,7 +137,10 @@ class ImitationPlanner(Planner):
 
     def next_view(self, episode, step):
         with torch.no_grad():
-            scores = episode.model.score_views(episode.hidden).cpu().numpy()
+            scores = episode.model.score_views(episode.hidden).cpu().numpy().astype(np.float64)
+        cost = episode.config.travel_cost
+        if cost:  # a view is worth its score less what getting there costs (log_softmax's shift cancels)
+            scores -= cost * geometry.angles_to(episode.view.detach().cpu().numpy(), self.candidates)
         scores[unavailable(episode, self.candidates)] = -np.inf
         return self.candidates[scores.argmax(1)]
 

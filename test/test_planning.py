@@ -217,6 +217,37 @@ def test_imitation_planner_takes_the_best_unvisited_candidate():
         make_planner("imitation", model=small_model(candidates=0))
 
 
+def test_imitation_planner_pays_for_travel():
+    """With travel_cost c each next view is the unvisited candidate with the best FC_view score
+    less c x its great-circle angle from the view just taken (brute force, angles from dot
+    products); a cost no score can pay takes the nearest unvisited candidate, and cost 0 is the
+    plain planner."""
+    model = small_model()
+    cands = geometry.fibonacci_views(10)
+    unit = geometry.camera_position(*cands.T)
+    for cost in (0.0, 0.7, 100.0):
+        ep = Episode(model, EpisodeConfig(max_views=10, entropy_threshold=0.0, travel_cost=cost),
+                     ImitationPlanner(model))
+        ep.reset(torch.as_tensor(cands[[2, 5]], dtype=torch.float32))
+        seen, now = [{2}, {5}], [2, 5]
+        torch.manual_seed(3)
+        with torch.no_grad():
+            for _ in range(9):
+                step = ep.step(torch.rand(2, 64, 64) * 255)
+                scores = model.score_views(ep.hidden).double().numpy()
+                for b in range(2):
+                    angle = np.arccos(np.clip(unit @ unit[now[b]], -1, 1))
+                    value = [scores[b, k] - cost * angle[k] if k not in seen[b] else -np.inf for k in range(10)]
+                    best = int(np.argmax(value))
+                    if cost == 100:  # no score pays for that: the nearest unvisited
+                        assert angle[best] == min(angle[k] for k in range(10) if k not in seen[b])
+                    np.testing.assert_allclose(step.next_view[b].numpy(), cands[best], atol=1e-6)
+                    seen[b].add(best)
+                    now[b] = best
+    np.testing.assert_allclose(geometry.angles_to(cands[:3], cands),
+                               [[geometry.travel(cands[[i, k]]) for k in range(10)] for i in range(3)], atol=1e-9)
+
+
 def test_fixed_planner_follows_its_path_then_looks_at_random():
     model = small_model(candidates=0)
     path = [[0.4, 1.0], [2.0, -2.0]]

@@ -84,3 +84,39 @@ def test_the_robot_seconds_benchmark_against_sums_by_hand(tmp_path):
     # 4 s: the first view and one move (0.2 + 3.64 s) fit, a second does not: episode 0 answers 'cup'
     assert bench.within(cost, runs["a"][0][5], 3, 4.0) == 2 and f["budget_4_accuracy"] == 0.5
     assert bench.within(cost, runs["a"][0][5], 3, 1.0) == 1  # the first view always
+
+
+def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
+    from conftest import load_benchmark
+
+    bench = load_benchmark("seconds_validation")
+    bench.THRESHOLDS_RUN = [0.1, 0.5]
+    quarter = np.array([[math.pi / 2, 0.0], [math.pi / 2, math.pi / 2], [math.pi / 2, math.pi]])
+    sure, unsure = [0.99, 0.005, 0.005], [0.6, 0.3, 0.1]
+    # entropies: sure 0.063 nats (< 0.1), unsure 0.898 (above both); label 0 right, 1 wrong
+
+    class Run:
+        def __init__(self, label, probs):
+            self.label, self.probs, self.views = label, [np.array(p) for p in probs], quarter[:len(probs)]
+
+    runs = [(0, Run(0, [unsure, sure, sure])),                         # right from the first view, sure at 2
+            (1, Run(1, [unsure, [0.3, 0.6, 0.1], [0.02, 0.97, 0.01]]))]  # wrong, then right and sure at 3
+    row, eps, rights = bench.setting(runs)
+    assert row["cut_accuracy"] == {"3": 1.0, "6": 1.0, "9": 1.0}
+    assert row["travel_deg"]["3"] == pytest.approx(180.0, abs=1e-4)
+    f = row["rules"]["0.1"]
+    assert f["stop_views"] == 2.5 and f["stop_accuracy"] == 1.0
+    move = 0.5 + (math.pi / 2) / 0.5
+    assert f["stop_seconds_mean"] == pytest.approx(((0.2 + move) + (0.3 + 2 * move)) / 2)
+    # within 4 s two views fit (0.2 + 3.64 s): run 0 right, run 1 answers class 1 at its second view
+    assert f["budget_4_accuracy"] == 1.0 and f["budget_4_accuracy_se"] == 0.0
+    assert bench.taken_within(eps[1][4], 3, 1.0) == 1 and eps[1][2][0] == 0  # 1 s: the first view, wrong
+    _, _, budget = bench.figures(eps[1:], 0.1)
+    assert budget[4.0].tolist() == [1.0]  # two views in 4 s: [0.3, 0.6, 0.1] answers class 1
+    # threshold 0.5 stops no earlier here: the same figures
+    assert row["rules"]["0.5"]["stop_views"] == 2.5
+    # the rule: the costs keep their cuts, the better budget accuracy wins; the threshold kept is the
+    # highest whose stop accuracy is within a paired standard error of 0.1's
+    rows = {"imitation cost 0": row, "imitation cost 1": row}
+    chosen, threshold = bench.choose(rows, {n: rights for n in rows}, {n: np.array([0, 1]) for n in rows})
+    assert chosen == "imitation cost 0" and threshold == 0.5

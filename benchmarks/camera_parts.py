@@ -1,0 +1,117 @@
+# Copyright 2026 active_recognition maintainers
+# SPDX-License-Identifier: Apache-2.0
+
+"""Where the points go through the camera: the same ModelNet10 test objects, the same starts and
+the same simulated camera (`realsense` by default) through the recognizer's own path, each part
+of the node changed alone against the node's defaults with today's model.
+
+Parts (rows): the model (`--other-checkpoint`, e.g. an older modelnet10.pt; it answers
+`unknown` only if it carries an open_set), the `unknown` answer (off: unknown_threshold 0, no
+hold), the hold alone (hold_unknown false), the size prior (use_size false, as when object_size
+is a guess) and the planner (`--planners`). Prints per row the accuracy (an `unknown` answer
+wrong) with its standard error, its paired difference from the defaults' row with the paired
+standard error, the share answered `unknown`, the mean views, travel and robot seconds (robot_time
+defaults). Writes docs/results/modelnet10/camera_parts.json (a partial run must give --out); last
+line JSON.
+
+    python benchmarks/camera_parts.py --root ~/data/ModelNet10 --other-checkpoint OLD.pt [--planners learned]
+"""
+import argparse
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from common import emit, one_line_errors, output, results_dir
+
+from active_recognition import checkpoint
+from active_recognition.camera_episodes import camera_runs
+from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.evaluate import EvalConfig
+from active_recognition.geometry import travel
+from active_recognition.node_params import RecognizerParameters
+from active_recognition.options import add_flags
+from active_recognition.recognizer import ActiveRecognizer
+from active_recognition.report import write_json
+from active_recognition.robot_time import RobotTime
+from active_recognition.simulated_camera import PRESETS
+
+OBJECTS_DEFAULT = 0  # 0: the whole test split
+
+
+def rows(args):
+    """(name, checkpoint path, planner, sensing changes) of each row; the first is the defaults'."""
+    today = checkpoint.model_path(args.checkpoint, "modelnet")
+    out = [("defaults", today, "auto", {}),
+           ("no unknown answer", today, "auto", {"unknown_threshold": 0.0, "hold_unknown": False}),
+           ("no hold", today, "auto", {"hold_unknown": False}),
+           ("no size prior", today, "auto", {"use_size": False})]
+    if args.other_checkpoint:
+        other = Path(args.other_checkpoint)
+        out += [(f"model {other.name}", other, "auto", {}),
+                (f"model {other.name}, no size prior", other, "auto", {"use_size": False})]
+    out += [(f"planner {p}", today, p, {}) for p in args.planners]
+    return out
+
+
+def measure(path, planner, changes, test, objects, args):
+    node = RecognizerParameters()
+    core = ActiveRecognizer(str(path), node.episode, args.seed, planner, replace(node.sensing, **changes),
+                            node.limits)
+    runs = camera_runs(core, test, "modelnet", "test", objects, args.camera, args.seed, args.root)
+    clock = RobotTime()
+    right = np.array([r.right for r in runs], dtype=float)
+    return core.planner, right, {
+        "unknown": float(np.mean([r.status == "unknown" for r in runs])),
+        "views": float(np.mean([len(r.views) for r in runs])),
+        "travel_deg": float(np.mean([np.degrees(travel(r.views)) for r in runs])),
+        "robot_s": float(np.mean([clock.seconds(r.views) for r in runs])),
+        "robot_s_p90": float(np.percentile([clock.seconds(r.views) for r in runs], 90))}
+
+
+def run(ap, args):
+    partial = [f for f, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
+                               ("--camera", args.camera != "realsense")) if on]
+    args.out = output(ap, args.out, str(results_dir("modelnet") / "camera_parts.json"), partial)
+    test = open_dataset("modelnet", args.root, "test", cache_dir=default_cache_dir())
+    if not 0 <= args.objects <= len(test):
+        ap.error(f"--objects must be 0 (all) to {len(test)} (the ModelNet10 test objects)")
+    objects = np.sort(np.random.default_rng(args.seed).permutation(len(test))[:args.objects or len(test)])
+    record = {"camera": args.camera, "objects": len(objects), "seed": args.seed, "rows": {}}
+    base = None
+    for name, path, planner, changes in rows(args):
+        planner, right, figures = measure(path, planner, changes, test, objects, args)
+        base = right if base is None else base
+        diff = right - base
+        row = {"checkpoint": Path(path).name, "planner": planner, "changes": changes,
+               "accuracy": round(float(right.mean()), 4),
+               "accuracy_se": round(float(right.std(ddof=1) / np.sqrt(len(right))), 4),
+               "minus_defaults": round(float(diff.mean()), 4),
+               "minus_defaults_se": round(float(diff.std(ddof=1) / np.sqrt(len(diff))), 4),
+               **{k: round(v, 4) for k, v in figures.items()}}
+        record["rows"][name] = row
+        print(f"{name:32s} {row['accuracy']:.1%} +- {row['accuracy_se']:.1%}  vs defaults "
+              f"{row['minus_defaults']:+.1%} +- {row['minus_defaults_se']:.1%}  unknown {row['unknown']:.1%}  "
+              f"views {row['views']:.2f}  travel {row['travel_deg']:.0f} deg  robot s {row['robot_s']:.1f} / "
+              f"p90 {row['robot_s_p90']:.1f}", flush=True)
+    if args.out:
+        write_json(Path(args.out), record)
+    emit({name: row["accuracy"] for name, row in record["rows"].items()})
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    add_flags(ap, EvalConfig, ["root", "checkpoint", "seed"], root={"required": True})
+    ap.add_argument("--other-checkpoint", default=None, help="another model to set beside today's")
+    ap.add_argument("--planners", nargs="*", default=[], help="planners to run beside the default")
+    ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
+                    help="ModelNet10 test objects (a seeded draw; default 0: every one)")
+    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
+                    "docs/results/modelnet10/camera_parts.json; a partial run must give it)")
+    args = ap.parse_args(argv)
+    with one_line_errors(ap):
+        run(ap, args)
+
+
+if __name__ == "__main__":
+    main()
