@@ -68,10 +68,13 @@ def run(ap, args):
     node = RecognizerParameters()  # the node's defaults
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, node.sensing, node.limits)
     groups, cuts = {}, {}
-    for group, dataset, root in (("known", "modelnet", args.root), ("unknown", args.unknowns, args.unknowns_root)):
-        test = open_dataset(dataset, root, "test", cache_dir=default_cache_dir())
-        if args.objects < 0:
-            ap.error("--objects must be 0 (all) or more")
+    if args.objects < 0:
+        ap.error("--objects must be 0 (all) or more")
+    sources = (("known", "modelnet", args.root), ("unknown", args.unknowns, args.unknowns_root))
+    # both opened before any episode, the unknowns' first: their root is the one most often missing
+    opened = {g: open_dataset(d, r, "test", cache_dir=default_cache_dir()) for g, d, r in sources[::-1]}
+    for group, dataset, root in sources:
+        test = opened[group]
         objects = np.sort(np.random.default_rng(args.seed).permutation(len(test))[:args.objects or len(test)])
         if group == "unknown":
             near = np.array([dataset == "real_unknowns" and is_near(test, i) for i in objects])
@@ -101,8 +104,8 @@ def run(ap, args):
           f"{record['unknown_flagged']:.1%}, known accuracy {record['known_accuracy']:.1%}; AUROC "
           f"{record['auroc']:.3f}, FPR@95 {record['fpr95']:.3f}; statuses {record['statuses']}; cut after "
           f"{'/'.join(map(str, CUTS))} images: {record['cut']}"
-          + (f"; near unknowns ({record['near']['objects']}): answered unknown "
-             f"{record['near']['unknown_flagged']:.1%}, AUROC {record['near']['auroc']:.3f}" if "near" in record else ""))
+          + (f"; near unknowns ({record['near']['objects']}): answered unknown {record['near']['unknown_flagged']:.1%}"
+             f", AUROC {record['near']['auroc']:.3f}" if "near" in record else ""))
     if args.out:
         write_json(Path(args.out), record)
     emit({k: v for k, v in record.items() if k not in ("statuses", "cut", "near", "objects")})

@@ -9,7 +9,10 @@ budget (or when its stop rule stops it first). The cost model (robot_time.RobotT
 per view, a settle per move, the great-circle travel at a steady angular speed. Every accuracy
 with its standard error, the starts of one object one sample (evaluate.object_standard_error).
 
-    python benchmarks/robot_seconds.py [--per-object CSV] [--capture-s 0.1 --settle-s 0.5 --rad-per-s 0.5]
+    python benchmarks/robot_seconds.py [--per-object CSV] [--add NAME=CSV ...] [--capture-s 0.1 ...]
+
+`--add NAME=CSV` sets another evaluation's episodes beside them (its planners named NAME, or
+NAME/planner where it holds several): e.g. the default planner with settings of its own.
 
 Last line is JSON, also written to --out (default docs/results/modelnet10/robot_seconds.json)."""
 import argparse
@@ -82,6 +85,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--per-object", default=str(RESULTS / "modelnet10" / "per_object.csv"),
                     help="an evaluation's per_object.csv (benchmarks/planners.py writes it)")
+    ap.add_argument("--add", action="append", default=[], metavar="NAME=CSV",
+                    help="another evaluation's per_object.csv, its planners named NAME (repeatable)")
     ap.add_argument("--capture-s", type=float, default=RobotTime.capture_s, help="robot seconds a capture")
     ap.add_argument("--settle-s", type=float, default=RobotTime.settle_s, help="robot seconds to settle a move")
     ap.add_argument("--rad-per-s", type=float, default=RobotTime.rad_per_s, help="angular speed, rad per second")
@@ -92,6 +97,12 @@ def main():
         if not Path(args.per_object).is_file():
             raise InputError(f"--per-object {args.per_object}: no such file")
         runs = episodes(args.per_object)
+        for extra in args.add:
+            name, sep, path = extra.partition("=")
+            if not sep or not name or not Path(path).is_file():
+                raise InputError(f"--add {extra}: NAME=CSV of an evaluation's per_object.csv expected")
+            more = episodes(path)
+            runs.update({name if len(more) == 1 else f"{name}/{p}": rows for p, rows in more.items()})
     figures = {name: planner_figures(cost, rows) for name, rows in runs.items()}
     print(f"{'planner':<16} travel 3/6/9 (deg)   stop rule: accuracy, views, travel, seconds mean / p90   "
           + "  ".join(f"<= {b:g} s" for b in BUDGETS))
@@ -104,7 +115,7 @@ def main():
     out = {"per_object": str(Path(args.per_object).resolve().relative_to(RESULTS.parent.parent))
            if Path(args.per_object).resolve().is_relative_to(RESULTS.parent.parent) else args.per_object,
            "cost": {"capture_s": cost.capture_s, "settle_s": cost.settle_s, "rad_per_s": cost.rad_per_s},
-           "budgets_s": list(BUDGETS), "planners": figures}
+           "budgets_s": list(BUDGETS), "added": args.add, "planners": figures}
     write_json(args.out, out)
     plot(cost, runs, Path(args.out).with_name("accuracy_vs_seconds.png"))
     emit({"planners": len(figures)})
