@@ -18,11 +18,13 @@ unknowns' val styles (datasets/unknowns.py) are scored beside them and their sha
 in `fitted_on`; their test styles are never read. With --camera PRESET the val episodes, and
 the training episodes of a second set of means, are shot through that simulated camera and the
 recognizer's own path (camera_episodes.py), as the node will see them: the thresholds are
-chosen on those, and the means are whichever set tells the val unknowns better. The checkpoint
-is rewritten atomically.
+chosen on those, and the means are whichever set tells the val unknowns better. With
+--unknowns real_unknowns the val unknowns are real meshes (datasets/real_unknowns.py) in place
+of the generated ones. The checkpoint is rewritten atomically.
 
     python -m active_recognition.open_set_fit --checkpoint PATH --dataset modelnet --root DIR
-        [--objects 600] [--known-rate 0.97] [--camera realsense] [--out PATH]
+        [--objects 600] [--known-rate 0.97] [--camera realsense] [--unknowns real_unknowns
+        --unknowns-root DIR] [--out PATH]
 """
 from __future__ import annotations
 
@@ -82,7 +84,7 @@ def flagged(probs, running, entropy_threshold, thresholds):
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
-        seed=0, val_objects=0, size=True, camera="model"):
+        seed=0, val_objects=0, size=True, camera="model", unknowns="unknowns", unknowns_root=None):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
     model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
     if not 0 < known_rate <= 1:
@@ -96,7 +98,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
     train, val = (Shapes(parts[s], renders) for s in ("train", "val"))
     if list(train.ds.classes) != classes:
         raise InputError(f"{path}: the checkpoint's classes {classes} are not the dataset's {train.ds.classes}")
-    unknown = Shapes(open_dataset("unknowns", split="val", cache_dir=default_cache_dir()), renders)
+    unknown = Shapes(open_dataset(unknowns, unknowns_root, "val", cache_dir=default_cache_dir()), renders)
     n = min(objects, len(train))
     if n < len(classes):
         raise InputError(f"objects = {objects}: the means need a training object of each of the {len(classes)} classes")
@@ -110,12 +112,12 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
         known = scored(planner, model, val, pick["known"], cfg, means, fixed_path)
         other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path)
     else:
-        groups = (train.ds, fit_on), (val.ds, pick["known"]), (unknown.ds, pick["unknown"])
+        groups = (train.ds, fit_on), (val.ds, pick["known"]), (unknown.ds, pick["unknown"], unknowns, unknowns_root)
         means, known, other, through = through_camera(path, planner, dataset, root, camera, steps, seed,
                                                       size, *groups, means)
     thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
-                 "seed": int(seed), "size": bool(size), "known_rate": float(known_rate),
+                 "seed": int(seed), "size": bool(size), "known_rate": float(known_rate), "unknowns": unknowns,
                  "val_known": len(known[1]), "val_unknown": len(other[1]),
                  "val_known_rejected": round(float(flagged(*known, cfg.entropy_threshold, thresholds).mean()), 4),
                  "val_unknown_flagged": round(float(flagged(*other, cfg.entropy_threshold, thresholds).mean()), 4),
@@ -136,10 +138,12 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
 
     core = recording_core(path, planner, steps, seed, use_size=size)  # every step recorded
     runs = {}
-    for group, (ds, objects), name, split in (("train", train, dataset, "train"),
-                                              ("known", val, dataset, "val"), ("unknown", unknown, "unknowns", "val")):
-        runs[group] = full_length(camera_runs(core, ds, name, split, objects, preset, seed,
-                                              root if name == dataset else None, record=True), steps)
+    (uds, uobjects, uname, uroot) = unknown
+    for group, (ds, objects), name, split, where in (("train", train, dataset, "train", root),
+                                                     ("known", val, dataset, "val", root),
+                                                     ("unknown", (uds, uobjects), uname, "val", uroot)):
+        runs[group] = full_length(camera_runs(core, ds, name, split, objects, preset, seed, where, record=True),
+                                  steps)
     labels = np.array([r.label for r in runs["train"][2]])
     candidates = {"camera": prototype_means(runs["train"][1], labels, len(train[0].classes)), "renders": rendered}
     scored_by = {k: {g: (runs[g][0], open_set.prototype_mean(runs[g][1], m)) for g in ("known", "unknown")}
@@ -174,12 +178,16 @@ def main(argv=None):
     ap.add_argument("--camera", default="model", choices=("model", *PRESETS), help=(
         "the images the answer is fitted on: model = the model's own renders; a simulated camera "
         "preset = through it as the node runs (slower; realsense for a node on a real camera)"))
+    ap.add_argument("--unknowns", default="unknowns", choices=("unknowns", "real_unknowns"), help=(
+        "the unknown val objects scored beside the known: generated (unknowns) or real meshes "
+        "(real_unknowns, under --unknowns-root: tools/fetch_real_unknowns.py)"))
+    ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     args = ap.parse_args(argv)
     try:
         path = checkpoint.model_path(args.checkpoint, args.dataset)
         entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
-                    args.seed, args.val_objects, args.size, args.camera)
+                    args.seed, args.val_objects, args.size, args.camera, args.unknowns, args.unknowns_root)
         store(path, entry, args.out)
     except InputError as e:
         ap.error(str(e))

@@ -34,7 +34,7 @@ CUTS = (3, 6, 9)
 
 
 def episodes(path):
-    """{planner: [(object, true, stopped_at, early answer, answers (T,), views (T, 2))]}."""
+    """{planner: [(object, true, stopped_at, early answer, answers (T,), views (T, 2), start)]}."""
     out = {}
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
@@ -42,7 +42,8 @@ def episodes(path):
             views = np.array([[float(x) for x in row[f"view_{t}"].split(";")] for t in range(1, steps + 1)])
             answers = [row[f"pred_{t}"] for t in range(1, steps + 1)]
             out.setdefault(row["planner"], []).append(
-                (int(row["object"]), row["true"], int(row["stopped_at"]), row["early_stop_pred"], answers, views))
+                (int(row["object"]), row["true"], int(row["stopped_at"]), row["early_stop_pred"], answers, views,
+                 int(row["start"])))
     if not out:
         raise InputError(f"{path}: no episodes")
     return out
@@ -81,6 +82,27 @@ def planner_figures(cost, rows):
     return out
 
 
+def paired(cost, rows, others):
+    """{other planner: {figure: [mean difference, its standard error]}} of `rows` less each of
+    `others` on the episodes they share (object and start), at the cuts and the budgets; the
+    starts of one object one sample."""
+    mine = {(r[0], r[6]): r for r in rows}
+    out = {}
+    for name, theirs in others.items():
+        pairs = [(mine[(r[0], r[6])], r) for r in theirs if (r[0], r[6]) in mine]
+        if not pairs:
+            continue
+        objects = np.array([a[0] for a, _ in pairs])
+        figures = {f"cut_{k}": lambda r, k=k: r[4][min(k, len(r[4])) - 1] == r[1] for k in CUTS}
+        figures.update({f"budget_{b:g}": lambda r, b=b: r[4][within(cost, r[5], r[2], b) - 1] == r[1]
+                        for b in BUDGETS[:3]})
+        out[name] = {}
+        for figure, right in figures.items():
+            diff = np.array([float(right(a)) - float(right(b)) for a, b in pairs])
+            out[name][figure] = [round(float(diff.mean()), 4), round(object_standard_error(objects, diff), 4)]
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--per-object", default=str(RESULTS / "modelnet10" / "per_object.csv"),
@@ -97,6 +119,7 @@ def main():
         if not Path(args.per_object).is_file():
             raise InputError(f"--per-object {args.per_object}: no such file")
         runs = episodes(args.per_object)
+        committed_runs = dict(runs)
         for extra in args.add:
             name, sep, path = extra.partition("=")
             if not sep or not name or not Path(path).is_file():
@@ -116,6 +139,13 @@ def main():
            if Path(args.per_object).resolve().is_relative_to(RESULTS.parent.parent) else args.per_object,
            "cost": {"capture_s": cost.capture_s, "settle_s": cost.settle_s, "rad_per_s": cost.rad_per_s},
            "budgets_s": list(BUDGETS), "added": args.add, "planners": figures}
+    for extra in args.add:  # each added planner against the committed ones, episode by episode
+        name = extra.partition("=")[0]
+        if name in runs:
+            out.setdefault("paired", {})[name] = diff = paired(cost, runs[name], committed_runs)
+            print(f"{name} less each planner, paired (mean +- s.e., points): " + "; ".join(
+                f"{p} " + ", ".join(f"{k} {100 * v[0]:+.1f} +- {100 * v[1]:.1f}" for k, v in d.items())
+                for p, d in diff.items()))
     write_json(args.out, out)
     plot(cost, runs, Path(args.out).with_name("accuracy_vs_seconds.png"))
     emit({"planners": len(figures)})

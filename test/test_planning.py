@@ -201,7 +201,7 @@ def took_best_unvisited(model, ep, step, cands, seen):
 def test_imitation_planner_takes_the_best_unvisited_candidate():
     model = small_model()
     planner = ImitationPlanner(model)
-    ep = Episode(model, EpisodeConfig(max_views=10, entropy_threshold=0.0), planner)
+    ep = Episode(model, EpisodeConfig(max_views=10, entropy_threshold=0.0, travel_cost=0.0), planner)
     cands = geometry.fibonacci_views(10)
     ep.reset(torch.as_tensor(cands[[2, 5]], dtype=torch.float32))
     seen = [{2}, {5}]
@@ -270,7 +270,7 @@ def test_fixed_then_imitation_follows_the_path_then_fc_views_best_unvisited_cand
     cands = geometry.fibonacci_views(10)
     path = cands[[4, 7, 1, 8, 9]]
     planner = make_planner("fixed+imitation", model=model, fixed_path=path)
-    ep = Episode(model, EpisodeConfig(max_views=8, entropy_threshold=0.0), planner)
+    ep = Episode(model, EpisodeConfig(max_views=8, entropy_threshold=0.0, travel_cost=0.0), planner)
     ep.reset(torch.as_tensor(cands[[2, 5]], dtype=torch.float32))
     seen = [{2}, {5}]
     torch.manual_seed(4)
@@ -516,7 +516,7 @@ def test_stage_loc_targets_fc_views_moves_and_fitting_teaches_them_to_fc_loc_alo
     states, targets, agree = loss.collect(cams, starts)
     assert states.shape == (16, model.config.state_size) and targets.shape == (16, 2) and agree.shape == (16,)
     # the views FC_view chose are the imitation planner's, run on its own (an independent rule)
-    ep = Episode(model, EpisodeConfig(4, 0.0), ImitationPlanner(model))
+    ep = Episode(model, EpisodeConfig(4, 0.0, 0.0), ImitationPlanner(model))
     with torch.no_grad():
         run(ep, cams, starts, 4)
     np.testing.assert_allclose(torch.stack(taken).numpy(), torch.stack(ep.views[1:]).numpy(), atol=1e-6)

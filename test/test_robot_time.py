@@ -84,6 +84,12 @@ def test_the_robot_seconds_benchmark_against_sums_by_hand(tmp_path):
     # 4 s: the first view and one move (0.2 + 3.64 s) fit, a second does not: episode 0 answers 'cup'
     assert bench.within(cost, runs["a"][0][5], 3, 4.0) == 2 and f["budget_4_accuracy"] == 0.5
     assert bench.within(cost, runs["a"][0][5], 3, 1.0) == 1  # the first view always
+    # paired against another planner on the same episodes: one that answers 'cup' at once everywhere
+    other = [(o, t, 1, "cup", ["cup"] * 3, v, st) for o, t, _, _, _, v, st in runs["a"]]
+    d = bench.paired(cost, runs["a"], {"b": other})["b"]
+    assert d["cut_3"] == [0.0, 0.0]  # both right after 3 views
+    # after 1 view (4 s fits 2 views for 'a', 'b' stops at 1): a right 1 of 2, b 2 of 2
+    assert d["budget_4"][0] == pytest.approx(-0.5)
 
 
 def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
