@@ -76,7 +76,8 @@ def run(ap, args):
     if not 0 <= args.objects <= len(test):
         ap.error(f"--objects must be 0 (all) to {len(test)} (the ModelNet10 test objects)")
     objects = np.sort(np.random.default_rng(args.seed).permutation(len(test))[:args.objects or len(test)])
-    record = {"camera": args.camera, "objects": len(objects), "seed": args.seed, "rows": {}}
+    record = {"camera": args.camera, "objects": len(objects), "seed": args.seed,
+              "episode": vars(RecognizerParameters().episode), "rows": {}}
     base = None
     for name, path, planner, changes in rows(args):
         planner, right, figures = measure(path, planner, changes, test, objects, args)

@@ -35,10 +35,12 @@ from active_recognition.camera_episodes import camera_runs
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluate import EvalConfig
+from active_recognition.geometry import travel
 from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
 from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.report import write_json
+from active_recognition.robot_time import RobotTime
 from active_recognition.simulated_camera import PRESETS
 
 OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or 83 real unknowns)
@@ -67,7 +69,7 @@ def run(ap, args):
         ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
     node = RecognizerParameters()  # the node's defaults
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, node.sensing, node.limits)
-    groups, cuts = {}, {}
+    groups, cuts, costs = {}, {}, {}
     if args.objects < 0:
         ap.error("--objects must be 0 (all) or more")
     sources = (("known", "modelnet", args.root), ("unknown", args.unknowns, args.unknowns_root))
@@ -81,6 +83,11 @@ def run(ap, args):
         runs = camera_runs(core, test, dataset, "test", objects, args.camera, args.seed, root, record=True)
         groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]),
                          [test.classes[test.items[int(i)][1]] for i in objects])
+        seconds = np.array([RobotTime().seconds(r.views) for r in runs])
+        costs[group] = {"views": round(float(np.mean([len(r.views) for r in runs])), 3),
+                        "travel_deg": round(float(np.mean([np.degrees(travel(r.views)) for r in runs])), 1),
+                        "robot_s": round(float(seconds.mean()), 2),
+                        "robot_s_p90": round(float(np.percentile(seconds, 90)), 2)}
         cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"]) for r in runs]) for t in CUTS}
     (ks, kr, kscore, _), (us, _, uscore, _) = groups["known"], groups["unknown"]
     seen = np.isfinite(kscore), np.isfinite(uscore)
@@ -94,7 +101,8 @@ def run(ap, args):
               "fpr95": round(open_set.fpr_at(kscore[seen[0]], uscore[seen[1]]), 4),
               "cut": {name: {str(t): round(float(cuts[g][t][:, col].mean()), 4) for t in CUTS}
                       for name, g, col in (("known_rejected", "known", 0), ("unknown_flagged", "unknown", 0),
-                                           ("known_accuracy", "known", 1))}}
+                                           ("known_accuracy", "known", 1))},
+              "episode": vars(node.episode), "cost": costs}
     if near.any():  # the furniture-like unknowns alone
         record["near"] = {"objects": int(near.sum()),
                           "unknown_flagged": round(float(np.mean(np.array(us)[near] == "unknown")), 4),
@@ -108,7 +116,8 @@ def run(ap, args):
              f", AUROC {record['near']['auroc']:.3f}" if "near" in record else ""))
     if args.out:
         write_json(Path(args.out), record)
-    emit({k: v for k, v in record.items() if k not in ("statuses", "cut", "near", "objects")})
+    print(f"views, travel and robot seconds (robot_time's defaults): {costs}")
+    emit({k: v for k, v in record.items() if k not in ("statuses", "cut", "near", "objects", "episode", "cost")})
 
 
 def main(argv=None):
