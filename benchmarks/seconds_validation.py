@@ -86,33 +86,34 @@ def figures(eps, threshold):
     return out, right, budget_right
 
 
-def setting(runs):
+def setting(runs, thresholds):
+    """One setting's figures over its recorded runs [(object, CameraRun)], at each stop rule."""
     eps = episodes(runs)
     row = {"episodes": len(eps),
            "cut_accuracy": {str(c): float(np.mean([e[2][min(c, len(e[2])) - 1] == e[1] for e in eps])) for c in CUTS},
            "travel_deg": {str(c): float(np.mean([np.degrees(travel(r.views[:c])) for _, r in runs])) for c in CUTS},
            "rules": {}}
     rights = {}
-    for t in THRESHOLDS_RUN:
+    for t in thresholds:
         row["rules"][f"{t:g}"], rights[t], rights[("budget", t)] = figures(eps, t)
     return row, eps, rights
 
 
-def choose(rows, rights, objects):
+def choose(rows, rights, objects, thresholds):
+    """(setting, entropy threshold) the module's rule names."""
     base = rows["imitation cost 0"]["cut_accuracy"]
     costs = [n for n in rows if n.startswith("imitation cost")
              and all(rows[n]["cut_accuracy"][c] >= base[c] - 0.01 for c in base)]
     chosen = max(costs, key=lambda n: np.mean([rows[n]["rules"][f"{CURRENT:g}"][f"budget_{b:g}_accuracy"]
                                                for b in CHOOSE_BY]))
     ref = rights[chosen][CURRENT]
-    kept = [t for t in THRESHOLDS_RUN
+    kept = [t for t in thresholds
             if ref.mean() - rights[chosen][t].mean() <= object_se(objects[chosen], ref - rights[chosen][t])]
     return chosen, max(kept)
 
 
 def run(ap, args):
-    global THRESHOLDS_RUN
-    THRESHOLDS_RUN = sorted(set(args.thresholds) | {CURRENT})
+    thresholds = sorted(set(args.thresholds) | {CURRENT})
     if 0.0 not in args.costs:
         ap.error("--costs must include 0 (the planner as it was: the rule measures against it)")
     partial = [f for f, on in (("--objects", args.objects), ("--starts", args.starts != STARTS),
@@ -130,7 +131,7 @@ def run(ap, args):
         runs = [(i, r) for s in range(args.starts) for i, r in
                 zip(range(n), camera_runs(core, val, "modelnet", "val", np.arange(n), args.camera, SEED + s,
                                           args.root, record=True))]
-        rows[name], eps, rights[name] = setting(runs)
+        rows[name], eps, rights[name] = setting(runs, thresholds)
         objects[name] = np.array([e[0] for e in eps])
         cur = rows[name]["rules"][f"{CURRENT:g}"]
         print(f"{name}: after 3/6/9 views {[round(100 * v, 1) for v in rows[name]['cut_accuracy'].values()]} %, "
@@ -138,12 +139,12 @@ def run(ap, args):
               f"{100 * cur['stop_accuracy']:.1f} %, {cur['stop_views']:.2f} views, {cur['stop_seconds_mean']:.1f} / "
               f"{cur['stop_seconds_p90']:.1f} s; within " + ", ".join(
                   f"{b:g} s {100 * cur[f'budget_{b:g}_accuracy']:.1f}" for b in BUDGETS), flush=True)
-        for t in THRESHOLDS_RUN:
+        for t in thresholds:
             f = rows[name]["rules"][f"{t:g}"]
             print(f"    entropy < {t:g}: {100 * f['stop_accuracy']:.1f} +- {100 * f['stop_accuracy_se']:.1f} %, "
                   f"{f['stop_views']:.2f} views, {f['stop_seconds_mean']:.1f} / {f['stop_seconds_p90']:.1f} s",
                   flush=True)
-    chosen, threshold = choose(rows, rights, objects)
+    chosen, threshold = choose(rows, rights, objects, thresholds)
     record = {"camera": args.camera, "checkpoint": path.name, "starts": args.starts, "seed": SEED, "objects": n,
               "cost_model": vars(RobotTime()), "budgets_s": list(BUDGETS), "settings": rows,
               "rule": {"planner": chosen, "entropy_threshold": threshold}}

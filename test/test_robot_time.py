@@ -96,7 +96,6 @@ def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
     from conftest import load_benchmark
 
     bench = load_benchmark("seconds_validation")
-    bench.THRESHOLDS_RUN = [0.1, 0.5]
     quarter = np.array([[math.pi / 2, 0.0], [math.pi / 2, math.pi / 2], [math.pi / 2, math.pi]])
     sure, unsure = [0.99, 0.005, 0.005], [0.6, 0.3, 0.1]
     # entropies: sure 0.063 nats (< 0.1), unsure 0.898 (above both); label 0 right, 1 wrong
@@ -107,7 +106,7 @@ def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
 
     runs = [(0, Run(0, [unsure, sure, sure])),                         # right from the first view, sure at 2
             (1, Run(1, [unsure, [0.3, 0.6, 0.1], [0.02, 0.97, 0.01]]))]  # wrong, then right and sure at 3
-    row, eps, rights = bench.setting(runs)
+    row, eps, rights = bench.setting(runs, [0.1, 0.5])
     assert row["cut_accuracy"] == {"3": 1.0, "6": 1.0, "9": 1.0}
     assert row["travel_deg"]["3"] == pytest.approx(180.0, abs=1e-4)
     f = row["rules"]["0.1"]
@@ -124,5 +123,5 @@ def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
     # the rule: the costs keep their cuts, the better budget accuracy wins; the threshold kept is the
     # highest whose stop accuracy is within a paired standard error of 0.1's
     rows = {"imitation cost 0": row, "imitation cost 1": row}
-    chosen, threshold = bench.choose(rows, {n: rights for n in rows}, {n: np.array([0, 1]) for n in rows})
+    chosen, threshold = bench.choose(rows, {n: rights for n in rows}, {n: np.array([0, 1]) for n in rows}, [0.1, 0.5])
     assert chosen == "imitation cost 0" and threshold == 0.5
