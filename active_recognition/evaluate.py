@@ -49,10 +49,11 @@ class EvalConfig:
     objects: int = option(0, lo=0, help="seeded sample of objects (0: all)")
     starts: int = option(1, lo=1, hi=50, help="initial views per object (a seeded sample of the 50)")
     steps: int = option(10, lo=1, hi=100, help="views per episode")
-    # the node's stop rule and price of travel (EpisodeConfig's defaults, chosen on val by robot seconds)
-    entropy_threshold: float = option(EpisodeConfig.entropy_threshold, lo=0, help="early-stop entropy (nats)")
+    entropy_threshold: float = option(EpisodeConfig.entropy_threshold, lo=0, help=(
+        "early-stop entropy (nats; the recognizer node's default is 0.5)"))
     travel_cost: float = option(EpisodeConfig.travel_cost, lo=0, hi=100, help=(
-        "the imitation planner's price of travel: FC_view's log-score less this x radians"))
+        "the imitation planner's price of travel: FC_view's log-score less this x radians (the "
+        "recognizer node's default is 1)"))
     seed: int = option(0, lo=0, hi=SEED_MAX, help="objects, initial views, random planner")
     out: str = option("runs/eval", length=(1, None), help="report folder")
     shared: bool = option(True, help="also score every planner with the shared multi-view "

@@ -15,7 +15,7 @@ from dataclasses import dataclass, fields, replace
 
 from .controller import Timing
 from .datasets import NAMES, SPLITS
-from .episode import EpisodeConfig
+from .episode import EpisodeConfig, ROBOT
 from .reach import ViewLimits
 from .recognizer import NODE_PLANNERS, SensingConfig
 from .robot_time import RobotTime
@@ -75,7 +75,7 @@ class RecognizerParameters:
     node: NodeConfig = nested(NodeConfig, flat=True)
     timing: Timing = nested(Timing, flat=True)
     robot: RobotTime = nested(RobotTime, flat=True)
-    episode: EpisodeConfig = nested(EpisodeConfig, flat=True)
+    episode: EpisodeConfig = nested(EpisodeConfig, ROBOT, flat=True)  # a robot pays for travel in seconds
     sensing: SensingConfig = nested(SensingConfig, flat=True, runtime=True)
     # a robot sees an object on a floor or a table from above its centre
     limits: ViewLimits = nested(ViewLimits, ViewLimits(0.0, 90.0), flat=True)

@@ -38,6 +38,7 @@ from . import checkpoint, open_set
 from .datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
+from .episode import ROBOT
 from .evaluate import EvalConfig
 from .options import add_flags
 from .simulated_camera import PRESETS
@@ -92,8 +93,10 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
     planner, fixed_path = node_planner(planner, model, ckpt)
     pixels = model.config.image_size
     renders = CameraConfig(pixels, pixels, radius=model.config.radius)
+    robot = ROBOT  # the recognizer node's stop rule and price of travel: the answer is fitted for the node
     cfg = EvalConfig(checkpoint=str(path), dataset=dataset, root=root, split="val", steps=steps, seed=seed,
-                     size=size, shared=False)
+                     size=size, shared=False, entropy_threshold=robot.entropy_threshold,
+                     travel_cost=robot.travel_cost)
     parts = open_splits(dataset, root, ("train", "val"), default_cache_dir())
     train, val = (Shapes(parts[s], renders) for s in ("train", "val"))
     if list(train.ds.classes) != classes:
