@@ -25,6 +25,7 @@ from std_msgs.msg import String  # noqa: E402
 import msg_adapters as ma  # noqa: E402
 from active_recognition import geometry  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
+from active_recognition.node_params import RecognizerParameters  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
@@ -53,8 +54,8 @@ def loop():
 def direct(index, seed):
     """The same episode without ROS: same initial-view draws, renders from the same poses (the
     very first request goes out before any CameraInfo, so at the model's radius), within the
-    node's default elevation limits."""
-    core = ActiveRecognizer(seed=seed, limits=ViewLimits(0.0, 90.0))
+    node's default elevation limits and episode (its stop rule and travel cost)."""
+    core = ActiveRecognizer(seed=seed, limits=ViewLimits(0.0, 90.0), episode=RecognizerParameters().episode)
     sim = SimulatedCamera()
     sim.load(dataset="procedural", split="test", index=index)
     results, k = [], None

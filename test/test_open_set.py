@@ -335,7 +335,10 @@ def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_pa
     entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10)
     model, classes, _ = checkpoint.load_model(path)
     assert tuple(entry["means"].shape) == (3, len(classes), model.config.state_size)
-    cfg = EvalConfig(dataset="procedural", split="val", steps=3, size=False, shared=False)
+    from active_recognition.episode import ROBOT  # the answer is fitted for the node's episodes
+
+    cfg = EvalConfig(dataset="procedural", split="val", steps=3, size=False, shared=False,
+                     entropy_threshold=ROBOT.entropy_threshold, travel_cost=ROBOT.travel_cost)
     size = model.config.image_size
     camera = CameraConfig(size, size, radius=model.config.radius)
     train = Shapes(open_splits("procedural", None, ("train",))["train"], camera)
