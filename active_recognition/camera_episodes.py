@@ -92,6 +92,19 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
     return runs
 
 
+def robot_cost(runs, clock=None):
+    """{views, travel_deg, robot_s, robot_s_p90} of CameraRuns: mean views, mean travel (degrees),
+    and the mean and p90 robot seconds by `clock` (robot_time.RobotTime; default its defaults)."""
+    from .geometry import travel
+    from .robot_time import RobotTime
+
+    clock = clock or RobotTime()
+    seconds = np.array([clock.seconds(r.views) for r in runs])
+    return {"views": float(np.mean([len(r.views) for r in runs])),
+            "travel_deg": float(np.mean([np.degrees(travel(r.views)) for r in runs])),
+            "robot_s": float(seconds.mean()), "robot_s_p90": float(np.percentile(seconds, 90))}
+
+
 def full_length(runs, steps):
     """(probs (N, steps, C), states (N, steps, S)) of the runs that took `steps` images."""
     whole = [r for r in runs if len(r.probs) >= steps]

@@ -274,14 +274,16 @@ def travel(views):
     """Radians a camera turns about the object's centre along views (N, 2) (theta, phi), each
     move along the great circle: the sum of the angles between successive views."""
     p = camera_position(*np.asarray(views, dtype=np.float64).reshape(-1, 2).T)
-    cos = np.sum(p[1:] * p[:-1], axis=-1)
-    # atan2 of |a x b| and a . b: exact for small angles, where arccos of a near-1 cosine is not
-    return float(np.sum(np.arctan2(np.linalg.norm(np.cross(p[1:], p[:-1]), axis=-1), cos)))
+    return float(np.sum(angle_between(p[1:], p[:-1])))
 
 
 def angles_to(views, targets):
     """(B, K) great-circle angles (radians) from each view (B, 2) to each target view (K, 2)."""
-    a = camera_position(*np.asarray(views, dtype=np.float64).reshape(-1, 2).T)     # (B, 3)
-    b = camera_position(*np.asarray(targets, dtype=np.float64).reshape(-1, 2).T)   # (K, 3)
-    cross = np.linalg.norm(np.cross(a[:, None], b[None]), axis=-1)
-    return np.arctan2(cross, a @ b.T)
+    a, b = (camera_position(*np.asarray(v, dtype=np.float64).reshape(-1, 2).T) for v in (views, targets))
+    return angle_between(a[:, None], b[None])
+
+
+def angle_between(a, b):
+    """The angles (radians) between unit vectors a and b (..., 3), broadcast: atan2 of |a x b| and
+    a . b, exact for small angles, where arccos of a near-1 cosine is not."""
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))

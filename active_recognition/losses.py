@@ -66,7 +66,7 @@ class JointLoss(nn.Module):
 
     def forward(self, cameras, views, labels, limits=None):
         """The batch's (loss, accuracy); `limits`: its episodes' view limits, if not the loss's."""
-        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0, travel_cost=0.0),
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      random_views=self.random_views, reach=reach_of(limits or self.limits))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
         loss = steps_loss(out, labels, self.weights)
@@ -113,7 +113,7 @@ class ReinforceLoss(nn.Module):
         self.register_buffer("baseline", torch.zeros(()))
 
     def forward(self, cameras, views, labels, limits=None):
-        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0, travel_cost=0.0),
+        ep = Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      exploration_std=self.std, explore_through=self.rule is not None,
                      reach=reach_of(limits or self.limits))
         out = run(ep, cameras, views, self.steps, self.rule, self.reduction, self.corrupt)
@@ -182,7 +182,7 @@ class ImitationLoss(nn.Module, Planner):
             if inside is not None:
                 feats = feats.new_zeros(len(cameras), k, feats.shape[-1]).index_copy_(1, inside.to(feats.device), feats)
         self.labels, self.feats, self.head_losses = labels, feats, []
-        ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0, travel_cost=0.0),
+        ep = Episode(model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                      planner=self, reach=reach_of(limits))
         known = [KnownViews(c, self.candidates, d) for c, d in zip(cameras, clean)]
         out = run(ep, known, views, self.steps, corrupt=self.corrupt)  # plain renders
@@ -249,7 +249,7 @@ class LocLoss(nn.Module, Planner):
         was = self.model.training
         self.model.eval()
         with torch.no_grad():
-            run(Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0, travel_cost=0.0),
+            run(Episode(self.model, EpisodeConfig(max_views=self.steps, entropy_threshold=0.0),
                         planner=self, reach=reach_of(self.limits), mirror=False),  # answers unread
                 cameras, views, self.steps, corrupt=self.corrupt)
         self.model.train(was)

@@ -35,7 +35,7 @@ import numpy as np
 import torch
 
 from . import checkpoint, open_set
-from .datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
+from .datasets import OPEN_SET, default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from .datasets.shapes import Shapes
 from .depth_layer import CameraConfig
 from .episode import ROBOT
@@ -93,10 +93,10 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
     planner, fixed_path = node_planner(planner, model, ckpt)
     pixels = model.config.image_size
     renders = CameraConfig(pixels, pixels, radius=model.config.radius)
-    robot = ROBOT  # the recognizer node's stop rule and price of travel: the answer is fitted for the node
+    # the episodes are the node's (its stop rule and price of travel): the answer is fitted for the node
     cfg = EvalConfig(checkpoint=str(path), dataset=dataset, root=root, split="val", steps=steps, seed=seed,
-                     size=size, shared=False, entropy_threshold=robot.entropy_threshold,
-                     travel_cost=robot.travel_cost)
+                     size=size, shared=False, entropy_threshold=ROBOT.entropy_threshold,
+                     travel_cost=ROBOT.travel_cost)
     parts = open_splits(dataset, root, ("train", "val"), default_cache_dir())
     train, val = (Shapes(parts[s], renders) for s in ("train", "val"))
     if list(train.ds.classes) != classes:
@@ -181,7 +181,7 @@ def main(argv=None):
     ap.add_argument("--camera", default="model", choices=("model", *PRESETS), help=(
         "the images the answer is fitted on: model = the model's own renders; a simulated camera "
         "preset = through it as the node runs (slower; realsense for a node on a real camera)"))
-    ap.add_argument("--unknowns", default="unknowns", choices=("unknowns", "real_unknowns"), help=(
+    ap.add_argument("--unknowns", default="unknowns", choices=tuple(OPEN_SET), help=(
         "the unknown val objects scored beside the known: generated (unknowns) or real meshes "
         "(real_unknowns, under --unknowns-root: tools/fetch_real_unknowns.py)"))
     ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")

@@ -111,7 +111,7 @@ def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits):
     """The joint stage: weight x the mean over steps of uniform_ce of an outlier episode's
     logits, its views random unvisited candidates, each rendered when taken (a tenth of every
     candidate's render for a 10-step episode)."""
-    ep = Episode(model, EpisodeConfig(max_views=steps, entropy_threshold=0.0, travel_cost=0.0),
+    ep = Episode(model, EpisodeConfig(max_views=steps, entropy_threshold=0.0),
                  planner=RandomCandidates(candidates, o.rng), reach=reach_of(limits))
     with running_statistics_kept(model):
         out = run(ep, o.cameras, o.views, steps, corrupt=corrupt)

@@ -123,7 +123,7 @@ def evaluate_accuracy(model, shapes, n, steps=(1, 3, 10), seed=0, planner=None, 
     was = model.training
     model.eval()
     with torch.no_grad():
-        out = run(Episode(model, EpisodeConfig(max_views=max(steps), travel_cost=0.0), planner, reach=reach_of(limits)),
+        out = run(Episode(model, EpisodeConfig(max_views=max(steps)), planner, reach=reach_of(limits)),
                   shapes.cameras(idx), views)
     model.train(was)
     y = torch.as_tensor(shapes.labels[idx], device=out[0].probs.device)

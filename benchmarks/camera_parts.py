@@ -24,15 +24,13 @@ import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint
-from active_recognition.camera_episodes import camera_runs
+from active_recognition.camera_episodes import camera_runs, robot_cost
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.evaluate import EvalConfig
-from active_recognition.geometry import travel
 from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
 from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.report import write_json
-from active_recognition.robot_time import RobotTime
 from active_recognition.simulated_camera import PRESETS
 
 OBJECTS_DEFAULT = 0  # 0: the whole test split
@@ -58,14 +56,8 @@ def measure(path, planner, changes, test, objects, args):
     core = ActiveRecognizer(str(path), node.episode, args.seed, planner, replace(node.sensing, **changes),
                             node.limits)
     runs = camera_runs(core, test, "modelnet", "test", objects, args.camera, args.seed, args.root)
-    clock = RobotTime()
     right = np.array([r.right for r in runs], dtype=float)
-    return core.planner, right, {
-        "unknown": float(np.mean([r.status == "unknown" for r in runs])),
-        "views": float(np.mean([len(r.views) for r in runs])),
-        "travel_deg": float(np.mean([np.degrees(travel(r.views)) for r in runs])),
-        "robot_s": float(np.mean([clock.seconds(r.views) for r in runs])),
-        "robot_s_p90": float(np.percentile([clock.seconds(r.views) for r in runs], 90))}
+    return core.planner, right, {"unknown": float(np.mean([r.status == "unknown" for r in runs])), **robot_cost(runs)}
 
 
 def run(ap, args):

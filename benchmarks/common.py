@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from active_recognition.checkpoint import shipped
+from active_recognition.datasets import OPEN_SET
 from active_recognition.validation import InputError
 
 RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
@@ -29,6 +30,14 @@ def results_dir(dataset):
 def committed(path):
     """Whether `path` lies in docs/results, where the committed figures are."""
     return Path(path).resolve().is_relative_to(RESULTS.resolve())
+
+
+def add_unknowns_flags(ap):
+    """--unknowns (the objects of no known class: generated, or real meshes) and --unknowns-root."""
+    ap.add_argument("--unknowns", default="unknowns", choices=tuple(OPEN_SET),
+                    help="the unknown objects: generated (unknowns) or real meshes (real_unknowns, under "
+                    "--unknowns-root: tools/fetch_real_unknowns.py)")
+    ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
 
 
 def output(ap, out, default, partial):

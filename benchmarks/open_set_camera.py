@@ -28,19 +28,17 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
-from common import emit, one_line_errors, output, results_dir
+from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint, open_set
-from active_recognition.camera_episodes import camera_runs
+from active_recognition.camera_episodes import camera_runs, robot_cost
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluate import EvalConfig
-from active_recognition.geometry import travel
 from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
 from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.report import write_json
-from active_recognition.robot_time import RobotTime
 from active_recognition.simulated_camera import PRESETS
 
 OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or 83 real unknowns)
@@ -83,11 +81,7 @@ def run(ap, args):
         runs = camera_runs(core, test, dataset, "test", objects, args.camera, args.seed, root, record=True)
         groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]),
                          [test.classes[test.items[int(i)][1]] for i in objects])
-        seconds = np.array([RobotTime().seconds(r.views) for r in runs])
-        costs[group] = {"views": round(float(np.mean([len(r.views) for r in runs])), 3),
-                        "travel_deg": round(float(np.mean([np.degrees(travel(r.views)) for r in runs])), 1),
-                        "robot_s": round(float(seconds.mean()), 2),
-                        "robot_s_p90": round(float(np.percentile(seconds, 90)), 2)}
+        costs[group] = {k: round(v, digits) for (k, v), digits in zip(robot_cost(runs).items(), (3, 1, 2, 2))}
         cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"]) for r in runs]) for t in CUTS}
     (ks, kr, kscore, _), (us, _, uscore, _) = groups["known"], groups["unknown"]
     seen = np.isfinite(kscore), np.isfinite(uscore)
@@ -126,10 +120,7 @@ def main(argv=None):
     ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
                     help="known and unknown test objects each (a seeded draw; default 0: every one)")
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
-    ap.add_argument("--unknowns", default="unknowns", choices=("unknowns", "real_unknowns"),
-                    help="the unknown objects: generated (unknowns) or real meshes (real_unknowns, under "
-                    "--unknowns-root: tools/fetch_real_unknowns.py)")
-    ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
+    add_unknowns_flags(ap)
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/open_set_camera.json; a partial run must give it)")
     args = ap.parse_args(argv)

@@ -27,14 +27,15 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+import torch
 from common import emit, one_line_errors, output, results_dir
 from robot_seconds import BUDGETS, spent, taken_within
 
 from active_recognition import checkpoint
 from active_recognition.camera_episodes import camera_runs, recording_core
 from active_recognition.datasets import default_cache_dir, open_splits
-from active_recognition.episode import EpisodeConfig
-from active_recognition.evaluate import EvalConfig
+from active_recognition.episode import EpisodeConfig, entropy
+from active_recognition.evaluate import EvalConfig, object_standard_error
 from active_recognition.geometry import travel
 from active_recognition.options import add_flags
 from active_recognition.report import write_json
@@ -46,27 +47,21 @@ COSTS, THRESHOLDS, STARTS, SEED = (0.0, 0.5, 1.0, 2.0, 4.0), (0.1, 0.2, 0.3, 0.5
 CURRENT = EpisodeConfig.entropy_threshold  # the node's stop rule before this choice
 
 
-def entropies(probs):
-    p = np.clip(np.asarray(probs, dtype=np.float64), 1e-12, 1)
-    return -(p * np.log(p)).sum(-1)
-
-
 def episodes(runs):
     """[(object, true label, answers (T,), entropies (T,), seconds after each view (T,))]."""
     clock = RobotTime()
-    return [(obj, r.label, np.argmax(np.stack(r.probs), 1), entropies(np.stack(r.probs)), spent(clock, r.views))
-            for obj, r in runs if r.probs]
+    out = []
+    for obj, r in runs:
+        if r.probs:
+            probs = np.stack(r.probs)  # the stop rule's own entropy (episode.entropy), in float64
+            out.append((obj, r.label, np.argmax(probs, 1), entropy(torch.from_numpy(probs).double()).numpy(),
+                        spent(clock, r.views)))
+    return out
 
 
 def stop_at(ent, threshold):
     below = np.flatnonzero(ent < threshold)
     return int(below[0]) + 1 if len(below) else len(ent)
-
-
-def object_se(objects, values):
-    ids, inverse = np.unique(objects, return_inverse=True)
-    per = np.bincount(inverse, values) / np.bincount(inverse)
-    return float(per.std(ddof=1) / np.sqrt(len(ids))) if len(ids) > 1 else 0.0
 
 
 def figures(eps, threshold):
@@ -75,14 +70,15 @@ def figures(eps, threshold):
     stops = [stop_at(e[3], threshold) for e in eps]
     right = np.array([e[2][s - 1] == e[1] for e, s in zip(eps, stops)], dtype=float)
     seconds = np.array([e[4][s - 1] for e, s in zip(eps, stops)])
-    out = {"stop_accuracy": float(right.mean()), "stop_accuracy_se": object_se(objects, right),
+    out = {"stop_accuracy": float(right.mean()), "stop_accuracy_se": object_standard_error(objects, right),
            "stop_views": float(np.mean(stops)), "stop_seconds_mean": float(seconds.mean()),
            "stop_seconds_p90": float(np.percentile(seconds, 90))}
     budget_right = {}
     for b in BUDGETS:
         r = np.array([e[2][taken_within(e[4], s, b) - 1] == e[1] for e, s in zip(eps, stops)], dtype=float)
         budget_right[b] = r
-        out[f"budget_{b:g}_accuracy"], out[f"budget_{b:g}_accuracy_se"] = float(r.mean()), object_se(objects, r)
+        out[f"budget_{b:g}_accuracy"] = float(r.mean())
+        out[f"budget_{b:g}_accuracy_se"] = object_standard_error(objects, r)
     return out, right, budget_right
 
 
@@ -108,7 +104,7 @@ def choose(rows, rights, objects, thresholds):
                                                for b in CHOOSE_BY]))
     ref = rights[chosen][CURRENT]
     kept = [t for t in thresholds
-            if ref.mean() - rights[chosen][t].mean() <= object_se(objects[chosen], ref - rights[chosen][t])]
+            if ref.mean() - rights[chosen][t].mean() <= object_standard_error(objects[chosen], ref - rights[chosen][t])]
     return chosen, max(kept)
 
 

@@ -32,7 +32,7 @@ import json
 from pathlib import Path
 
 import numpy as np
-from common import emit, one_line_errors, output, results_dir
+from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint, open_set
 from active_recognition.camera_episodes import camera_runs, recording_core
@@ -200,10 +200,7 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=SEED, help=f"first start's seed (default {SEED})")
     ap.add_argument("--objects", type=int, default=0, help="the first N val objects of each group (0: all)")
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
-    ap.add_argument("--unknowns", default="unknowns", choices=("unknowns", "real_unknowns"),
-                    help="the unknown objects' val split: generated (unknowns) or real meshes (real_unknowns, "
-                    "under --unknowns-root: tools/fetch_real_unknowns.py)")
-    ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
+    add_unknowns_flags(ap)
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/validation_camera.json; a partial run must give it)")
     ap.add_argument("--ship", action="store_true", help="record the chosen planner as the shipped model's "
