@@ -55,6 +55,9 @@ class TrainConfig:
         "generated unknown objects of their train styles, in pre-training's images and in an "
         "episode of random views after each joint batch (policy imitation); 0 = off"))
     outlier_batch: int = option(8, lo=1, hi=100_000, help="--outliers: unknown objects per batch")
+    near_outliers: float = option(0.0, lo=0, hi=1, help=(
+        "--outliers: the share of each batch's unknown objects that are furniture-like (stools, "
+        "shelves, cabinets, appliances, pianos, mantels: datasets/near.py), the rest the unknowns'"))
     # every training view keeps inside the views a robot can take
     limits: ViewLimits = nested(ViewLimits, flat=True)
     band_share: float = option(0.0, lo=0, hi=1, help=(

@@ -13,6 +13,10 @@ with its standard error, the starts of one object one sample (evaluate.object_st
 
 `--add NAME=CSV` sets another evaluation's episodes beside them (its planners named NAME, or
 NAME/planner where it holds several): e.g. the default planner with settings of its own.
+`--budget-entropy T`: within a budget the added episodes stop at entropy T instead of where their
+stop rule stopped them, as the node does with a time budget (controller.Timing's
+budget_entropy_threshold); each step's entropy is log C less the sum of the recorded gains (C the
+classes named in the CSVs' `true` column; gains kept to 4 decimals, so within 5e-4 nats).
 
 Last line is JSON, also written to --out (default docs/results/modelnet10/robot_seconds.json)."""
 import argparse
@@ -34,16 +38,19 @@ CUTS = (3, 6, 9)
 
 
 def episodes(path):
-    """{planner: [(object, true, stopped_at, early answer, answers (T,), views (T, 2), start)]}."""
+    """{planner: [(object, true, stopped_at, early answer, answers (T,), views (T, 2), start,
+    gains (T,) or None)]}."""
     out = {}
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
             steps = sum(1 for k in row if k.startswith("view_") and row[k])
             views = np.array([[float(x) for x in row[f"view_{t}"].split(";")] for t in range(1, steps + 1)])
             answers = [row[f"pred_{t}"] for t in range(1, steps + 1)]
+            gains = [row.get(f"gain_{t}") for t in range(1, steps + 1)]
+            gains = np.array(gains, dtype=float) if all(gains) else None
             out.setdefault(row["planner"], []).append(
                 (int(row["object"]), row["true"], int(row["stopped_at"]), row["early_stop_pred"], answers, views,
-                 int(row["start"])))
+                 int(row["start"]), gains))
     if not out:
         raise InputError(f"{path}: no episodes")
     return out
@@ -63,7 +70,18 @@ def taken_within(seconds, stop, budget):
     return int(min(max(np.searchsorted(seconds, budget, side="right"), 1), stop))
 
 
-def planner_figures(cost, rows):
+def entropy_stop(row, threshold, classes):
+    """The view at which an episode stops at `threshold` nats: the first whose entropy (log
+    `classes` less the gains so far) is below it, else its last."""
+    if row[7] is None:
+        raise InputError("--budget-entropy needs the per_object.csv's gain_t columns")
+    below = np.flatnonzero(math.log(classes) - np.cumsum(row[7]) < threshold)
+    return int(below[0]) + 1 if len(below) else len(row[7])
+
+
+def planner_figures(cost, rows, budget_stops=None):
+    """A planner's figures; within budgets its episodes stop at `budget_stops` (default: where
+    their stop rule stopped them)."""
     objects = np.array([r[0] for r in rows])
     out = {"episodes": len(rows)}
     for k in CUTS:
@@ -74,19 +92,22 @@ def planner_figures(cost, rows):
                 "stop_views": float(views.mean()), "stop_travel_deg": float(np.degrees(moved).mean()),
                 "stop_seconds_mean": float(seconds.mean()), "stop_seconds_p90": float(np.percentile(seconds, 90))})
     cumulative = [spent(cost, r[5]) for r in rows]
+    stops = [r[2] for r in rows] if budget_stops is None else budget_stops
     for budget in BUDGETS:
-        taken = [taken_within(c, r[2], budget) for r, c in zip(rows, cumulative)]
+        taken = [taken_within(c, stop, budget) for stop, c in zip(stops, cumulative)]
         right = np.array([r[1] == r[4][n - 1] for r, n in zip(rows, taken)], dtype=float)
         out[f"budget_{budget:g}_accuracy"] = float(right.mean())
         out[f"budget_{budget:g}_accuracy_se"] = object_standard_error(objects, right)
     return out
 
 
-def paired(cost, rows, others):
+def paired(cost, rows, others, budget_stops=None):
     """{other planner: {figure: [mean difference, its standard error]}} of `rows` less each of
-    `others` on the episodes they share (object and start), at the cuts and the budgets; the
-    starts of one object one sample."""
-    mine = {(r[0], r[6]): r for r in rows}
+    `others` on the episodes they share (object and start), at the cuts and the budgets (rows'
+    episodes stopping there at `budget_stops`, default their stop rule's); the starts of one
+    object one sample."""
+    stops = [r[2] for r in rows] if budget_stops is None else budget_stops
+    mine = {(r[0], r[6]): r[:2] + (stop,) + r[3:] for r, stop in zip(rows, stops)}
     out = {}
     for name, theirs in others.items():
         pairs = [(mine[(r[0], r[6])], r) for r in theirs if (r[0], r[6]) in mine]
@@ -112,6 +133,9 @@ def main():
     ap.add_argument("--capture-s", type=float, default=RobotTime.capture_s, help="robot seconds a capture")
     ap.add_argument("--settle-s", type=float, default=RobotTime.settle_s, help="robot seconds to settle a move")
     ap.add_argument("--rad-per-s", type=float, default=RobotTime.rad_per_s, help="angular speed, rad per second")
+    ap.add_argument("--budget-entropy", type=float, default=None, metavar="NATS",
+                    help="within a budget the added episodes stop at this entropy, as the node does with a "
+                         "time budget (its budget_entropy_threshold); default: where their stop rule stopped")
     ap.add_argument("--out", default=str(RESULTS / "modelnet10" / "robot_seconds.json"), help="JSON of the figures")
     args = ap.parse_args()
     with one_line_errors(ap):
@@ -126,7 +150,10 @@ def main():
                 raise InputError(f"--add {extra}: NAME=CSV of an evaluation's per_object.csv expected")
             more = episodes(path)
             runs.update({name if len(more) == 1 else f"{name}/{p}": rows for p, rows in more.items()})
-    figures = {name: planner_figures(cost, rows) for name, rows in runs.items()}
+        classes = len({r[1] for rows in runs.values() for r in rows})
+        stops = {name: [entropy_stop(r, args.budget_entropy, classes) for r in rows]
+                 for name, rows in runs.items() if name not in committed_runs and args.budget_entropy is not None}
+    figures = {name: planner_figures(cost, rows, stops.get(name)) for name, rows in runs.items()}
     print(f"{'planner':<16} travel 3/6/9 (deg)   stop rule: accuracy, views, travel, seconds mean / p90   "
           + "  ".join(f"<= {b:g} s" for b in BUDGETS))
     for name, f in figures.items():
@@ -138,21 +165,22 @@ def main():
     out = {"per_object": str(Path(args.per_object).resolve().relative_to(RESULTS.parent.parent))
            if Path(args.per_object).resolve().is_relative_to(RESULTS.parent.parent) else args.per_object,
            "cost": {"capture_s": cost.capture_s, "settle_s": cost.settle_s, "rad_per_s": cost.rad_per_s},
-           "budgets_s": list(BUDGETS), "added": args.add, "planners": figures}
+           "budgets_s": list(BUDGETS), "added": args.add, "budget_entropy": args.budget_entropy, "planners": figures}
     for extra in args.add:  # each added planner against the committed ones, episode by episode
         name = extra.partition("=")[0]
         if name in runs:
-            out.setdefault("paired", {})[name] = diff = paired(cost, runs[name], committed_runs)
+            out.setdefault("paired", {})[name] = diff = paired(cost, runs[name], committed_runs, stops.get(name))
             print(f"{name} less each planner, paired (mean +- s.e., points): " + "; ".join(
                 f"{p} " + ", ".join(f"{k} {100 * v[0]:+.1f} +- {100 * v[1]:.1f}" for k, v in d.items())
                 for p, d in diff.items()))
     write_json(args.out, out)
-    plot(cost, runs, Path(args.out).with_name("accuracy_vs_seconds.png"))
+    plot(cost, runs, Path(args.out).with_name("accuracy_vs_seconds.png"), stops)
     emit({"planners": len(figures)})
 
 
-def plot(cost, runs, path):
-    """Accuracy within each budget of robot seconds, a line per planner, to `path`."""
+def plot(cost, runs, path, budget_stops=None):
+    """Accuracy within each budget of robot seconds, a line per planner, to `path` (a planner's
+    episodes stopping at budget_stops[planner] where given, else at their stop rule's)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -161,7 +189,8 @@ def plot(cost, runs, path):
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for name, rows in runs.items():
         cumulative = [spent(cost, r[5]) for r in rows]
-        steps = [[taken_within(c, r[2], b) for r, c in zip(rows, cumulative)] for b in budgets]
+        stops = (budget_stops or {}).get(name) or [r[2] for r in rows]
+        steps = [[taken_within(c, stop, b) for stop, c in zip(stops, cumulative)] for b in budgets]
         acc = [np.mean([r[1] == r[4][n - 1] for r, n in zip(rows, taken)]) for taken in steps]
         ax.plot(budgets, 100 * np.array(acc), label=name, linestyle="--" if name == "oracle" else "-")
     ax.set(xlabel="robot seconds (budget)", ylabel="accuracy (%)",

@@ -55,6 +55,23 @@ def test_outliers_leave_the_known_batches_alone_and_add_their_own_term(tmp_path)
     assert (total - plain).item() == pytest.approx(0.5 * np.mean(-logp.mean(-1)), rel=1e-5)
 
 
+def test_near_outliers_take_their_share_of_the_batch_and_keep_the_known_batch(tmp_path):
+    from active_recognition.datasets.near import KINDS
+
+    plain = Trainer(TrainConfig(**TINY, outliers=0.5, out=str(tmp_path / "plain")), progress=False)
+    near = Trainer(TrainConfig(**TINY, outliers=0.5, near_outliers=0.5, out=str(tmp_path / "near")),
+                   progress=False)
+    assert near.outliers.near.ds.classes == list(KINDS) and len(near.outliers.near) == 3 * len(KINDS)
+    idx = np.arange(6)
+    a, b = plain.inputs("pretrain", 0, 1, idx, None), near.inputs("pretrain", 0, 1, idx, None)
+    assert np.array_equal(a.depth, b.depth) and a.rng.random() == b.rng.random()
+    assert len(b.outliers.cameras) == 4 and near.outliers.batch == near.outliers.near_batch == 2
+    assert len(near.outliers.near._cams) == 2  # two furniture-like objects drawn for the batch
+    assert b.outliers.depth.shape[0] == 4 * TINY["views_per_shape"]
+    with pytest.raises(InputError, match="near_outliers"):
+        TrainConfig(**TINY, outliers=0.5, near_outliers=1.5, out=str(tmp_path / "x"))
+
+
 def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path):
     from active_recognition.train import joint_loss
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from active_recognition.checkpoint import shipped
+from active_recognition.commands import Step
 from active_recognition.controller import AskView, Controller, End, Timing
 from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.robot_time import RobotTime
@@ -46,8 +47,7 @@ def camera():
 def test_an_episode_answers_before_the_next_view_would_overrun_its_budget(camera, budget):
     core = ActiveRecognizer(str(shipped("procedural")))
     core.rng = np.random.default_rng(2)
-    core.episode.config.entropy_threshold = 0.0  # never sure: only the budget stops it
-    loop = Controller(core, Timing(pose_wait=0.05))
+    loop = Controller(core, Timing(pose_wait=0.05, budget_entropy_threshold=0.0))  # never sure: the budget stops it
     commands, now = loop.start(0.0, time_budget=budget), 0.0
     while not any(isinstance(c, End) for c in commands):
         ask = [c for c in commands if isinstance(c, AskView)][-1]
@@ -61,6 +61,31 @@ def test_an_episode_answers_before_the_next_view_would_overrun_its_budget(camera
     assert len(taken) >= 1 and (spent <= budget or len(taken) == 1)  # the first view is always taken
     if len(taken) < core.episode.config.max_views:  # stopped by the budget: one more would overrun
         assert spent + loop.cost.next_view(taken, core.view) > budget
+
+
+def test_a_budget_brings_its_own_stop_rule_and_an_episode_without_one_the_nodes(camera):
+    """With a time budget the episode stops at budget_entropy_threshold, without one at the
+    node's entropy_threshold: each episode's stop is the one its start asked for."""
+    core = ActiveRecognizer(str(shipped("procedural")))
+    core.episode.config.entropy_threshold = 1.0  # this object: 4 views (entropy 1.15 at the first)
+    loop = Controller(core, Timing(pose_wait=0.05, budget_entropy_threshold=0.02))
+    stops, views = [], []
+    for budget in (30.0, 0.0, 30.0):
+        commands, now = loop.start(0.0, time_budget=budget), 0.0
+        stops.append(core.episode.config.entropy_threshold)
+        entropies = []
+        while not any(isinstance(c, End) for c in commands):
+            ask = [c for c in commands if isinstance(c, AskView)][-1]
+            now += 0.1
+            metres, position, rotation = camera.capture(ask.position, ask.rotation)
+            commands = loop.pose(now, ask.frame, ask.stamp, position, rotation) + loop.image(now, ask.stamp, metres)
+            entropies += [c.obs.entropy for c in commands if isinstance(c, Step)]
+        views.append(len(entropies))
+        assert all(h >= stops[-1] for h in entropies[:-1])  # it went on while unsure
+        taken = core.views_taken()
+        assert entropies[-1] < stops[-1] or len(taken) == core.episode.config.max_views or \
+            loop.cost.seconds(taken) + loop.cost.next_view(taken, core.view) > budget  # and stopped for a reason
+    assert stops == [0.02, 1.0, 0.02] and views[1] < min(views[0], views[2])
 
 
 def test_the_robot_seconds_benchmark_against_sums_by_hand(tmp_path):
@@ -85,11 +110,37 @@ def test_the_robot_seconds_benchmark_against_sums_by_hand(tmp_path):
     assert bench.within(cost, runs["a"][0][5], 3, 4.0) == 2 and f["budget_4_accuracy"] == 0.5
     assert bench.within(cost, runs["a"][0][5], 3, 1.0) == 1  # the first view always
     # paired against another planner on the same episodes: one that answers 'cup' at once everywhere
-    other = [(o, t, 1, "cup", ["cup"] * 3, v, st) for o, t, _, _, _, v, st in runs["a"]]
+    other = [(o, t, 1, "cup", ["cup"] * 3, v, st, g) for o, t, _, _, _, v, st, g in runs["a"]]
     d = bench.paired(cost, runs["a"], {"b": other})["b"]
     assert d["cut_3"] == [0.0, 0.0]  # both right after 3 views
     # after 1 view (4 s fits 2 views for 'a', 'b' stops at 1): a right 1 of 2, b 2 of 2
     assert d["budget_4"][0] == pytest.approx(-0.5)
+
+
+def test_the_robot_seconds_benchmark_stops_budgeted_episodes_at_their_own_entropy(tmp_path):
+    from conftest import load_benchmark
+
+    bench = load_benchmark("robot_seconds")
+    quarter = "1.5707963;0.0", "1.5707963;1.5707963", "1.5707963;3.1415927"
+    header = ["planner", "object", "true", "start", "stopped_at", "early_stop_pred", "pred_1", "pred_2", "pred_3",
+              "gain_1", "gain_2", "gain_3", "view_1", "view_2", "view_3"]
+    # two classes (log 2 = 0.6931 nats before the first view): entropies 0.4931, 0.2931, 0.0431
+    rows = [["a", 0, "cup", 0, 1, "bowl", "bowl", "bowl", "cup", 0.2, 0.2, 0.25, *quarter],
+            ["a", 1, "bowl", 0, 1, "bowl", "bowl", "bowl", "bowl", 0.2, 0.2, 0.25, *quarter]]
+    path = tmp_path / "per_object.csv"
+    path.write_text("\n".join(",".join(map(str, r)) for r in [header, *rows]) + "\n")
+    runs = bench.episodes(path)["a"]
+    assert [bench.entropy_stop(runs[0], h, 2) for h in (0.5, 0.3, 0.1, 0.01)] == [1, 2, 3, 3]
+    cost = RobotTime()
+    plain = bench.planner_figures(cost, runs)  # stopped at the first view: 'bowl', right once
+    strict = bench.planner_figures(cost, runs, [3, 3])  # on to entropy 0.1: the third view, 'cup' right
+    assert plain["budget_24_accuracy"] == 0.5 and strict["budget_24_accuracy"] == 1.0
+    assert strict["budget_4_accuracy"] == 0.5  # 4 s hold two views: 'bowl' for both
+    assert plain["stop_accuracy"] == strict["stop_accuracy"] == 0.5  # the stop rule's figures stay
+    d = bench.paired(cost, runs, {"b": runs}, [3, 3])["b"]
+    assert d["budget_12"] == [0.5, 0.5] and d["cut_3"] == [0.0, 0.0]
+    with pytest.raises(InputError, match="gain"):
+        bench.entropy_stop(runs[0][:7] + (None,), 0.1, 2)
 
 
 def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
@@ -125,3 +176,8 @@ def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
     rows = {"imitation cost 0": row, "imitation cost 1": row}
     chosen, threshold = bench.choose(rows, {n: rights for n in rows}, {n: np.array([0, 1]) for n in rows}, [0.1, 0.5])
     assert chosen == "imitation cost 0" and threshold == 0.5
+    # with a budget: the best mean accuracy within 4, 8 and 12 s, a tie going to the strictest
+    assert bench.budget_threshold(rows, chosen, [0.5, 0.1]) == 0.1
+    looser = {"budget_4_accuracy": 1.0, "budget_8_accuracy": 1.0, "budget_12_accuracy": 1.0}
+    strict = {**looser, "budget_12_accuracy": 0.5}
+    assert bench.budget_threshold({"c": {"rules": {"0.1": strict, "0.5": looser}}}, "c", [0.1, 0.5]) == 0.5
