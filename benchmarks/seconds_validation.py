@@ -114,7 +114,8 @@ def choose(rows, rights, objects, thresholds):
 def budget_threshold(rows, chosen, thresholds):
     """The entropy threshold of an episode with a time budget: the module's rule 3."""
     rules = rows[chosen]["rules"]
-    return max(sorted(thresholds), key=lambda t: np.mean([rules[f"{t:g}"][f"budget_{b:g}_accuracy"] for b in CHOOSE_BY]))
+    return max(sorted(thresholds),
+               key=lambda t: np.mean([rules[f"{t:g}"][f"budget_{b:g}_accuracy"] for b in CHOOSE_BY]))
 
 
 def run(ap, args):

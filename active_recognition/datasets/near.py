@@ -143,7 +143,8 @@ def piano(rng, kind, extra, st):  # kind: upright, console, grand | extra: bench
         body = trimesh.creation.extrude_polygon(outline, 0.3)
         body.apply_translation((0, -L / 2, 0.62))
         parts = [body, box((0, -L / 2 - 0.12, 0.72), (w, 0.25, 0.08))]
-        parts += [box((x, y - L / 2, 0.31), (0.07, 0.07, 0.62)) for x, y in ((-0.42 * w, 0.1), (0.42 * w, 0.1), (-0.3 * w, 0.9 * L))]
+        feet = ((-0.42 * w, 0.1), (0.42 * w, 0.1), (-0.3 * w, 0.9 * L))
+        parts += [box((x, y - L / 2, 0.31), (0.07, 0.07, 0.62)) for x, y in feet]
         top, width = 1.0, w
     else:
         width, depth = rng.uniform(1.4, 1.55), rng.uniform(0.5, 0.65)
