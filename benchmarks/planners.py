@@ -19,6 +19,7 @@ from pathlib import Path
 
 from common import FOLDER, RESULTS, committed, emit, one_line_errors, output, results_dir
 from results_page import write_results_page
+from robot_seconds import BUDGETS, robot_summary
 
 from active_recognition import checkpoint
 from active_recognition.checkpoint import MODELS, SHIPPED_FOR
@@ -155,6 +156,7 @@ def run(ap, args):
                       out / "training_time.png")
     s["training_time"] = t
     s["default_planner"], s["val_acc_3"] = chosen, val_acc
+    s["robot_seconds"] = robot_summary(out / "per_object.csv")  # what the episodes cost an arm
     if chosen_by:
         s["default_chosen_by"] = chosen_by
     if args.dataset == "modelnet":  # the paper's Table 3, accuracy % after 3 / 6 / 9 views
@@ -168,6 +170,11 @@ def run(ap, args):
         print(f"{name:>10}: 3 views {100 * s['acc'][name]['3']:.1f} +- {100 * s['stderr_3'][name]:.1f}"
               f", shared classifier {100 * s['acc_shared'][name]['3']:.1f} +- "
               f"{100 * s['stderr_3_shared'][name]:.1f}")
+    for name, f in s["robot_seconds"].items():
+        print(f"{name:>10}: travel after 3 / 6 / 9 views {f['travel_deg_3']:.0f} / {f['travel_deg_6']:.0f} / "
+              f"{f['travel_deg_9']:.0f} deg; stop rule {f['stop_seconds_mean']:.1f} / {f['stop_seconds_p90']:.1f} "
+              f"robot s (mean / p90); within " + ", ".join(f"{b:g} s {100 * f[f'budget_{b:g}_accuracy']:.1f}"
+                                                           for b in BUDGETS) + " %")
     line = {"acc": s["acc"], "shared_acc": s["acc_shared"], "stderr_3": s["stderr_3"],
             "default_planner": s["default_planner"], "learned_vs_reinforce_time_ratio": t["ratio"]}
     if "paper" in s:

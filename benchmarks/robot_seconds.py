@@ -101,6 +101,11 @@ def planner_figures(cost, rows, budget_stops=None):
     return out
 
 
+def robot_summary(path, cost=RobotTime()):
+    """{planner: planner_figures} of an evaluation's per_object.csv (planners.py reports them)."""
+    return {name: planner_figures(cost, rows) for name, rows in episodes(path).items()}
+
+
 def paired(cost, rows, others, budget_stops=None):
     """{other planner: {figure: [mean difference, its standard error]}} of `rows` less each of
     `others` on the episodes they share (object and start), at the cuts and the budgets (rows'

@@ -115,6 +115,7 @@ def test_the_robot_seconds_benchmark_against_sums_by_hand(tmp_path):
     assert d["cut_3"] == [0.0, 0.0]  # both right after 3 views
     # after 1 view (4 s fits 2 views for 'a', 'b' stops at 1): a right 1 of 2, b 2 of 2
     assert d["budget_4"][0] == pytest.approx(-0.5)
+    assert bench.robot_summary(path, cost) == {"a": f}  # what planners.py reports of its own table
 
 
 def test_the_robot_seconds_benchmark_stops_budgeted_episodes_at_their_own_entropy(tmp_path):
