@@ -80,7 +80,8 @@ def cmd_recognize(args):
     from .nodes.recognize_client import run_goal
     from action_msgs.msg import GoalStatus
 
-    result, state = run_goal(args.action, args.object_frame, args.object_size, args.max_views, args.timeout)
+    result, state = run_goal(args.action, args.object_frame, args.object_size, args.max_views, args.timeout,
+                             time_budget=args.time_budget)
     if state == GoalStatus.STATUS_CANCELED:  # by Ctrl-C; a goal another start replaced is aborted
         return 130
     return 0 if result is not None and result.status in ("recognized", "unknown") else 1

@@ -74,6 +74,9 @@ class RecognizeOptions:
     object_size: float = option(0.0, lo=0, hi=100, help=(
         "metres, the longest edge of the object's box (0: the node's object_size)"))
     max_views: int = option(0, lo=0, hi=MAX_VIEWS, help="views at most (0: the node's max_views)")
+    time_budget: float = option(0.0, lo=0, hi=86400, help=(
+        "robot seconds the views may cost (0: the node's time_budget); the node answers before "
+        "the next view would overrun it"))
     timeout: float = option(10.0, lo=0.1, hi=86400, help=(
         "seconds to wait for the action server to appear"))
 

@@ -230,7 +230,8 @@ def test_the_client_says_when_the_server_goes_away(loop, monkeypatch):
     (["--timeout", "0.5"], "no recognize action server within 0.5 s"),
     (["--action", "bad name!"], "--action 'bad name!' is not a valid action name"),
     (["--object-size", "0.0005"], "object_size must be 0 (the node's) or 0.001 to 100 m"),
-    (["--max-views", "1001"], "--max-views: must be an integer from 0 to 1000")])
+    (["--max-views", "1001"], "--max-views: must be an integer from 0 to 1000"),
+    (["--time-budget", "-1"], "--time-budget: must be")])
 def test_the_client_refuses_in_one_line_and_exits_2(args, says):
     from conftest import run_side_by_side
 
@@ -240,8 +241,20 @@ def test_the_client_refuses_in_one_line_and_exits_2(args, says):
     assert says in done.stderr and len(done.stderr.strip().splitlines()) == 1, done.stderr
 
 
+def test_the_client_sends_its_time_budget_in_the_goal(monkeypatch):
+    from active_recognition.nodes import recognize_client
+    from active_recognition.validation import InputError
+
+    sent = []
+    monkeypatch.setattr(recognize_client, "send", lambda executor, client, goal, timeout, out: sent.append(goal))
+    recognize_client.run_goal(object_size=0.5, max_views=4, time_budget=7.5, timeout=0.1)
+    assert [(g.object_size, g.max_views, g.time_budget) for g in sent] == [(0.5, 4, 7.5)]
+    with pytest.raises(InputError, match="time_budget must be 0"):
+        recognize_client.run_goal(time_budget=-2.0, timeout=0.1)
+
+
 def test_a_goals_time_budget_ends_it_before_the_next_view_would_overrun(loop):
-    executor, recognizer, camera, client, views = loop(entropy_threshold=0.0)  # only the budget stops it
+    executor, recognizer, camera, client, views = loop(budget_entropy_threshold=0.0)  # only the budget stops it
     goal = Goal(executor, client, time_budget=3.0)
     result, status = goal.wait()
     assert status == GoalStatus.STATUS_SUCCEEDED and result.status == "recognized"

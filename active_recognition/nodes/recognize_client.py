@@ -49,7 +49,8 @@ def result_line(result, state):
     else:
         answer = "{} p={:.2f}".format(*best(results))
     return (f"result: {result.status} ({STATES.get(state, state)}): {answer}, "
-            f"{result.views} views, travel {result.travel:.2f} rad, {result.elapsed:.1f} s")
+            f"{result.views} views, travel {result.travel:.2f} rad, {result.elapsed:.1f} s, "
+            f"{result.robot_seconds:.1f} robot s")
 
 
 def interface():
@@ -96,7 +97,7 @@ def send(executor, client, goal, timeout, out=print):
 
 
 def run_goal(action="/recognize", object_frame="", object_size=0.0, max_views=0, timeout=10.0,
-             out=print):
+             out=print, time_budget=0.0):
     """One goal, as `active-recognition recognize` sends it -> (its Result, its GoalStatus), or
     (None, None)."""
     recognize = interface()
@@ -106,9 +107,9 @@ def run_goal(action="/recognize", object_frame="", object_size=0.0, max_views=0,
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     try:
-        check_goal(object_size, max_views)
+        check_goal(object_size, max_views, time_budget)
         goal = recognize.Goal(object_frame=object_frame, object_size=float(object_size),
-                              max_views=int(max_views))
+                              max_views=int(max_views), time_budget=float(time_budget))
         try:
             validate_topic_name(action)
         except InvalidTopicNameException as e:
