@@ -9,22 +9,27 @@ import numpy as np
 import pytest
 import trimesh
 
-from active_recognition.datasets import open_splits
+from active_recognition.datasets import near, open_splits
+from active_recognition.datasets import unknowns as unknowns_module
 from active_recognition.datasets.parts import Style
 from active_recognition.datasets.unknowns import (FACTORS, GENERATORS, KINDS, SPLITS, make_unknown, styles,
                                                   unknowns)
 from active_recognition.validation import InputError
 
 
-@pytest.mark.parametrize("name", KINDS)
-def test_every_style_builds_closed_parts(name):
-    na, nb = FACTORS[name]
+@pytest.mark.parametrize("kinds, name", [(unknowns_module, k) for k in KINDS] + [(near, k) for k in near.KINDS])
+def test_every_style_builds_closed_parts(kinds, name):
+    """Generated unknowns and near unknowns (datasets/near.py) alike; the near ones on the floor."""
+    na, nb = kinds.FACTORS[name]
     for a, b in itertools.product(range(na), range(nb)):
         rng = np.random.default_rng([a, b])
-        parts = GENERATORS[name](rng, a, b, Style.draw(rng))
+        parts = kinds.GENERATORS[name](rng, a, b, Style.draw(rng))
         assert parts, (name, a, b)
         for p in parts:  # each part closed and of positive volume: the whole is watertight-ish
             assert p.is_watertight and p.volume > 0, (name, a, b)
+        if kinds is near:  # furniture stands on z = 0: only a shelf's cross brace (3 cm wide, corner
+            # to corner) reaches below, by at most half its width
+            assert -0.015 - 1e-6 <= trimesh.util.concatenate(parts).bounds[0, 2] <= 1e-6, (name, a, b)
 
 
 @pytest.mark.parametrize("label", range(len(KINDS)))
