@@ -95,7 +95,8 @@ def summarise(runs, near=None):
     auroc, auroc_near = {}, {}
     for t in AUROC_AT:
         k, u = end_scores(first, t), end_scores(unknown, t)
-        for name in k:
+        for name in [n for n in k if np.isfinite(k[n]).any() or np.isfinite(u[n]).any()]:  # scored
+            # (prototype_mean needs the class means of a checkpoint's open_set)
             auroc.setdefault(name, []).append(round(open_set.auroc(k[name], u[name]), 4))
             if near is not None and near.any():
                 auroc_near.setdefault(name, []).append(round(open_set.auroc(k[name], u[name][near]), 4))
@@ -113,11 +114,13 @@ def paired(right, a, b):
 def rule(rows, right):
     """The planner the stated rule names: of those whose mean accuracy is within one paired
     standard error of the best's, the one whose prototype_mean tells the val unknowns best after
-    10 views (the node's score). -> (planner, the planners tied with the best)."""
+    10 views (the node's score; energy_mean for a checkpoint without class means). -> (planner,
+    the planners tied with the best)."""
     best = max(rows, key=lambda p: rows[p]["mean"])
     lead = {p: paired(right, best, p) for p in rows if p != best}  # (best's lead, its s.e.)
     tied = [p for p in rows if p == best or lead[p][0] <= lead[p][1]]
-    return max(tied, key=lambda p: rows[p]["auroc"]["prototype_mean"][-1]), tied
+    name = "prototype_mean" if all("prototype_mean" in rows[p]["auroc"] for p in tied) else "energy_mean"
+    return max(tied, key=lambda p: rows[p]["auroc"][name][-1]), tied
 
 
 def ship(path, chosen, summary):
@@ -153,7 +156,8 @@ def run(ap, args):
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model, _, ckpt = checkpoint.load_model(path)
     if model.open_set is None:
-        ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
+        print(f"{path}: carries no open_set (python -m active_recognition.open_set_fit): its prototype "
+              f"score is not measured, and energy_mean breaks ties")
     default = args.reference or ckpt.get("default_planner") or "learned"
     val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]
     unknown = open_dataset(args.unknowns, args.unknowns_root, "val", cache_dir=default_cache_dir())

@@ -130,6 +130,14 @@ def test_validation_through_the_camera_scores_answers_by_views_and_keeps_a_defau
     clear = {"learned": base.copy(), "imitation": base.copy()}
     clear["learned"][:8] = 1  # 8 of 40: 0.2 against s.e. 0.064
     assert vc.rule(rows(clear, (0.97, 0.99)), clear) == ("learned", ["learned"])  # accuracy first
+    # a checkpoint without class means: no prototype score; energy_mean breaks the tie
+    plain = [CameraRun("recognized", 0, True, 0.1, [one_hot(0)], [], [-1.0], []) for _ in range(3)]
+    odd = [CameraRun("recognized", 1, False, 0.1, [one_hot(1)], [], [e], []) for e in (-3.0, 0.5)]
+    _, row = vc.summarise({"known": [plain], "unknown": odd})
+    assert "prototype_mean" not in row["auroc"] and row["auroc"]["energy_mean"][0] == pytest.approx(0.5)
+    energy = {p: {"mean": float(r.mean()), "auroc": {"energy_mean": [0.5, a]}}
+              for (p, r), a in zip(close.items(), (0.9, 0.8))}
+    assert vc.rule(energy, close)[0] == "learned"
 
 
 def test_shipping_the_validation_choice_records_it_for_the_nodes_auto(tmp_path):
