@@ -25,9 +25,14 @@ so its default is chosen here, and benchmarks/planners.py keeps it. The `unknown
 fitted for the planner `auto` names: after a change, fit them again (python -m
 active_recognition.open_set_fit --camera realsense).
 
+`--scores CSV` also writes the default planner's episodes of the first start, known and unknown,
+one row each: its group, object, class and `near`, and per view the answer, the prototype score,
+the energy and 1 - the top probability (for choosing another score without shooting them again).
+
     python benchmarks/validation_camera.py --root ~/data/ModelNet10 [--starts 3] [--objects 0] [--ship]
 """
 import argparse
+import csv
 import json
 from pathlib import Path
 
@@ -39,6 +44,7 @@ from active_recognition.camera_episodes import camera_runs, recording_core
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluate import EvalConfig
+from active_recognition.files import atomic_write
 from active_recognition.options import add_flags
 from active_recognition.recognizer import NODE_PLANNERS
 from active_recognition.report import write_json
@@ -111,6 +117,22 @@ def paired(right, a, b):
     return float(diff.mean()), float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("inf")
 
 
+def score_rows(runs, near=None):
+    """The --scores CSV's rows of a planner's first start, known and unknown (see the module)."""
+    per_view = [f"{k}_{t}" for k in ("answer", "prototype", "energy", "msp") for t in range(1, STEPS + 1)]
+    header = ["group", "object", "label", "near"] + per_view
+    rows = [header]
+    for group, episodes in (("known", runs["known"][0]), ("unknown", runs["unknown"])):
+        for i, r in enumerate(episodes):
+            per_view = [list(answers([r], STEPS)[0]), r.prototypes, r.energies,
+                        open_set.msp(r.probs) if r.probs else []]
+            cells = [f"{v:.5g}" if isinstance(v, float) else str(v) for values in per_view
+                     for v in (list(values) + [""] * STEPS)[:STEPS]]
+            rows.append([group, i, r.label, int(bool(near[i])) if group == "unknown" and near is not None else 0]
+                        + cells)
+    return rows
+
+
 def rule(rows, right):
     """The planner the stated rule names: of those whose mean accuracy is within one paired
     standard error of the best's, the one whose prototype_mean tells the val unknowns best after
@@ -170,6 +192,9 @@ def run(ap, args):
                                             (unknown, args.unknowns, args.unknowns_root, nu)), args.camera,
                             args.starts, args.seed)
         right[planner], rows[planner] = summarise(runs, near)
+        if args.scores and planner == default:
+            with atomic_write(args.scores, newline="") as f:
+                csv.writer(f).writerows(score_rows(runs, near))
         print(f"{planner}: after 3/6/9 views {rows[planner]['acc']}, mean {rows[planner]['mean']:.4f} "
               f"({rows[planner]['episodes']} episodes); AUROC after {AUROC_AT} views {rows[planner]['auroc']}"
               + (f"; near ones alone {rows[planner]['auroc_near']}" if "auroc_near" in rows[planner] else ""),
@@ -207,6 +232,8 @@ def main(argv=None):
     add_unknowns_flags(ap)
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/validation_camera.json; a partial run must give it)")
+    ap.add_argument("--scores", default=None, metavar="CSV", help="write the default planner's per-view "
+                    "answers and scores of the first start, known and unknown, to this CSV")
     ap.add_argument("--ship", action="store_true", help="record the chosen planner as the shipped model's "
                     "default (the node's planner auto) and in docs/results/modelnet10/summary.json")
     args = ap.parse_args(argv)

@@ -138,6 +138,15 @@ def test_validation_through_the_camera_scores_answers_by_views_and_keeps_a_defau
     energy = {p: {"mean": float(r.mean()), "auroc": {"energy_mean": [0.5, a]}}
               for (p, r), a in zip(close.items(), (0.9, 0.8))}
     assert vc.rule(energy, close)[0] == "learned"
+    # --scores: a row an episode, per view its answer and scores, blank past its views
+    table = vc.score_rows({"known": [runs], "unknown": odd}, near=np.array([True, False]))
+    head = table[0]
+    assert head[:4] == ["group", "object", "label", "near"] and len(head) == 4 + 4 * vc.STEPS
+    first = dict(zip(head, table[1]))
+    assert (first["answer_1"], first["answer_2"], first["answer_3"]) == ("0", "1", "1")
+    assert first["prototype_2"] == "0.4" and first["energy_1"] == "-1" and first["msp_1"] == "0"
+    assert first["prototype_3"] == "" and dict(zip(head, table[3]))["answer_1"] == "1"
+    assert [r[0] for r in table[1:]] == ["known", "known", "unknown", "unknown"] and table[3][3] == 1
 
 
 def test_shipping_the_validation_choice_records_it_for_the_nodes_auto(tmp_path):
