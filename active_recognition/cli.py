@@ -72,7 +72,7 @@ def cmd_demo(args):
     from .nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
              planner=args.planner, dataset=args.dataset, camera=args.camera,
-             record=args.record or "")
+             record=args.record or "", time_budget=args.time_budget)
 
 
 def cmd_recognize(args):

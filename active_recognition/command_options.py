@@ -63,6 +63,8 @@ class DemoOptions:
         "simulated camera: the model's own (64x64, 120 degrees), or RealSense-like (640x480, "
         "fx = fy = 385, Kinect noise, 3 % dropout, flying pixels removed, a floor, 2 degrees of "
         "pose error)"))
+    time_budget: float = option(0.0, lo=0, hi=86400, help=(
+        "robot seconds each object's views may cost (the recognizer's time_budget; 0 = none)"))
     record: str | None = option(None, kind=str, optional=True, metavar="FILE.mcap", help=(
         "record every topic of the loop to this MCAP file (ros2 bag play, Foxglove)"))
 

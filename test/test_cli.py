@@ -250,9 +250,13 @@ def test_train_says_which_checkpoints_it_wrote_and_flags_beat_the_preset(files, 
 @pytest.mark.slow
 def test_demo_recognises_an_object_over_ros():
     import_ros("rclpy")
-    status, out, err = run_process(["demo", "--objects", 1])
+    status, out, err = run_process(["demo", "--objects", 2, "--time-budget", 2.5])
     assert status == 0, err
-    assert "object 1/1: true=" in out and "accuracy" in out.splitlines()[-1]
+    assert "object 1/2: true=" in out and "accuracy" in out.splitlines()[-1]
+    assert "mean robot seconds" in out.splitlines()[-1] and "(budget 2.5 s)" in out.splitlines()[-1]
+    spent = [(int(line.split("views=")[1].split()[0]), float(line.split("robot=")[1].split()[0]))
+             for line in out.splitlines() if "robot=" in line]
+    assert len(spent) == 2 and all(s <= 2.5 or views == 1 for views, s in spent), out  # within the budget
 
 
 # ---------------------------------------------------------------- bad input

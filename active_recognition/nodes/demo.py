@@ -105,11 +105,11 @@ def recognize(executor, client, timeout=10.0):
 
 
 def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="auto",
-             dataset="procedural", camera="virtual", record=""):
+             dataset="procedural", camera="virtual", record="", time_budget=0.0):
     """Recognise `objects` test objects of an embedded dataset in turn (with that dataset's
     shipped model unless `checkpoint` names one) through a simulated `camera` ("virtual" or
-    "realsense", simulated_camera.PRESETS), recording every topic to the .mcap file `record`
-    if given; returns the summary dict."""
+    "realsense", simulated_camera.PRESETS), each within `time_budget` robot seconds (0: none),
+    recording every topic to the .mcap file `record` if given; returns the summary dict."""
     if record:
         check_path(record)  # refused now, not once both nodes are up and the camera has logged
     test = open_dataset(dataset, split="test", cache_dir=default_cache_dir())
@@ -129,7 +129,7 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
         recognizer = Recognizer(context=ctx, parameter_overrides=[
             Parameter("checkpoint", value=checkpoint),
             Parameter("seed", value=seed), Parameter("planner", value=planner),
-            Parameter("record", value=record)])
+            Parameter("record", value=record), Parameter("time_budget", value=float(time_budget))])
         client = DemoClient(context=ctx)
         for node in (camera, recognizer, client):
             executor.add_node(node)
@@ -151,13 +151,13 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                         "no_image": "no image came (no view could be had)",
                         "timeout": "the episode ran past episode_timeout"}[result["status"]])
                 out(f"object {n + 1}/{len(order)}: true={truth:<12} {why}")
-                rows.append((False, 0, ms))
+                rows.append((False, 0, ms, 0.0))
                 continue
             ok = result["label"] == truth
-            rows.append((ok, result["views"], ms))
+            rows.append((ok, result["views"], ms, result["robot_seconds"]))
             out(f"object {n + 1}/{len(order)}: true={truth:<12} predicted={result['label']:<12} "
-                f"p={result['probability']:.2f} views={result['views']:<2} time={ms:.0f} ms "
-                f"{'ok' if ok else 'WRONG'}")
+                f"p={result['probability']:.2f} views={result['views']:<2} robot={result['robot_seconds']:.1f} s "
+                f"time={ms:.0f} ms {'ok' if ok else 'WRONG'}")
         if recorder is not None:  # the last episode's end may still be on its way to the file
             spin_until(executor, lambda: recorder.quiet(0.25), 3.0)
         summary = {"objects": len(rows), "planner": recognizer.core.planner,
@@ -165,11 +165,13 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                    "answered": sum(r[1] > 0 for r in rows),
                    "accuracy": float(np.mean([r[0] for r in rows])),
                    "mean_views": float(np.mean([r[1] for r in rows])),
+                   "mean_robot_seconds": float(np.mean([r[3] for r in rows])),
                    "ms_per_episode_p50": float(np.median([r[2] for r in rows])),
                    "rejected_images": recognizer.loop.counts["rejected"]}
         out(f"planner {recognizer.core.planner}: "
             f"accuracy {summary['accuracy']:.2f} over {summary['objects']} objects, "
-            f"mean views {summary['mean_views']:.1f}, "
+            f"mean views {summary['mean_views']:.1f}, mean robot seconds {summary['mean_robot_seconds']:.1f}"
+            + (f" (budget {time_budget:g} s)" if time_budget else "") + ", "
             f"median {summary['ms_per_episode_p50']:.0f} ms per episode")
     if recorder is not None:  # the session has closed it
         summary["recorded"] = dict(recorder.counts)
