@@ -343,10 +343,8 @@ class Controller:
             self.counts["classified"] += 1
             self.counts["matched"] += found is not None  # to its measured pose
             self.header = p.header
-            if last is None and self.budget:
-                taken = self.core.views_taken()
-                if self.cost.seconds(taken) + self.cost.next_view(taken, self.core.view) > self.budget:
-                    last = self.core.finish()  # the next view would overrun the budget: answer now
+            if last is None and self.over_budget():
+                last = self.core.finish()  # the next view would overrun the budget: answer now
             ask = None if last is not None else self.ask(now)
             out += [ask] if ask is not None else []
             out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now),
@@ -376,8 +374,19 @@ class Controller:
                                        f"unreachable in a row, or none left); the episode ends "
                                        f"with no_image"), self.end(now, obs)]
         other = "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
+        if self.over_budget():  # the view in its place would overrun the budget: answer now
+            return [Refuse("unreachable", f"view {view} unreachable after {self.tries} tries; {other} "
+                                          f"in its place would overrun the time budget: answering now"),
+                    self.end(now, self.core.finish())]
         return [Refuse("unreachable", f"view {view} unreachable after {self.tries} tries: asking "
                                       f"for {other} instead"), self.ask(now)]
+
+    def over_budget(self):
+        """Whether the episode's next view (core.view, as asked) would overrun its time budget
+        (never before the first view, nor without a budget)."""
+        taken = self.core.views_taken()
+        return bool(self.budget) and len(taken) > 0 and \
+            self.cost.seconds(taken) + self.cost.next_view(taken, self.core.view) > self.budget
 
     def end(self, now, obs):
         result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now),

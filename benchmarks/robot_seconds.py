@@ -101,6 +101,29 @@ def planner_figures(cost, rows, budget_stops=None):
     return out
 
 
+def budget_stops(args, runs, committed_runs):
+    """{added planner: its episodes' stops within a budget, at --budget-entropy} ({} without it)."""
+    if args.budget_entropy is None:
+        return {}
+    if not (0 <= args.budget_entropy <= 10):  # NaN too
+        raise InputError(f"--budget-entropy must be a number of nats in [0, 10], got {args.budget_entropy}")
+    if not args.add:
+        raise InputError("--budget-entropy applies to the episodes --add names: add NAME=CSV")
+    classes = len({r[1] for rows in runs.values() for r in rows})
+    if classes < 2:
+        raise InputError(f"--budget-entropy needs the number of classes, read from the CSVs' `true` "
+                         f"column: it names {classes}")
+    stops = {}
+    for extra in args.add:
+        name, _, path = extra.partition("=")
+        for planner in [p for p in runs if p not in committed_runs and (p == name or p.startswith(name + "/"))]:
+            try:
+                stops[planner] = [entropy_stop(r, args.budget_entropy, classes) for r in runs[planner]]
+            except InputError as e:
+                raise InputError(f"--add {path}: {e}") from None
+    return stops
+
+
 def robot_summary(path, cost=RobotTime()):
     """{planner: planner_figures} of an evaluation's per_object.csv (planners.py reports them)."""
     return {name: planner_figures(cost, rows) for name, rows in episodes(path).items()}
@@ -155,9 +178,7 @@ def main():
                 raise InputError(f"--add {extra}: NAME=CSV of an evaluation's per_object.csv expected")
             more = episodes(path)
             runs.update({name if len(more) == 1 else f"{name}/{p}": rows for p, rows in more.items()})
-        classes = len({r[1] for rows in runs.values() for r in rows})
-        stops = {name: [entropy_stop(r, args.budget_entropy, classes) for r in rows]
-                 for name, rows in runs.items() if name not in committed_runs and args.budget_entropy is not None}
+        stops = budget_stops(args, runs, committed_runs)
     figures = {name: planner_figures(cost, rows, stops.get(name)) for name, rows in runs.items()}
     print(f"{'planner':<16} travel 3/6/9 (deg)   stop rule: accuracy, views, travel, seconds mean / p90   "
           + "  ".join(f"<= {b:g} s" for b in BUDGETS))

@@ -63,6 +63,24 @@ def test_an_episode_answers_before_the_next_view_would_overrun_its_budget(camera
         assert spent + loop.cost.next_view(taken, core.view) > budget
 
 
+def test_an_unreachable_view_is_not_replaced_by_one_the_budget_cannot_pay_for(camera):
+    """After a view is given up, the one the planner picks in its place must fit the budget too:
+    here none can (a move costs at least settle + capture, 0.6 s, and 0.55 s are left), so the
+    episode answers with what it has instead of asking for it."""
+    core = ActiveRecognizer(str(shipped("procedural")))
+    core.rng = np.random.default_rng(2)
+    loop = Controller(core, Timing(pose_wait=0.05, view_timeout=1.0, max_retries=0, budget_entropy_threshold=0.0))
+    ask = loop.start(0.0, time_budget=30.0)[0]
+    metres, position, rotation = camera.capture(ask.position, ask.rotation)
+    commands = loop.pose(0.1, ask.frame, ask.stamp, position, rotation) + loop.image(0.1, ask.stamp, metres)
+    assert any(isinstance(c, AskView) for c in commands) and len(core.views_taken()) == 1
+    loop.budget = loop.cost.seconds(core.views_taken()) + 0.55
+    ended = loop.tick(5.0)  # the second view never came (no resends): given up
+    assert [type(c).__name__ for c in ended] == ["Refuse", "End"] and "time budget" in ended[0].reason
+    assert ended[1].result["status"] == "recognized" and ended[1].result["views"] == 1
+    assert ended[1].result["robot_seconds"] <= loop.budget
+
+
 def test_a_budget_brings_its_own_stop_rule_and_an_episode_without_one_the_nodes(camera):
     """With a time budget the episode stops at budget_entropy_threshold, without one at the
     node's entropy_threshold: each episode's stop is the one its start asked for."""
@@ -142,6 +160,13 @@ def test_the_robot_seconds_benchmark_stops_budgeted_episodes_at_their_own_entrop
     assert d["budget_12"] == [0.5, 0.5] and d["cut_3"] == [0.0, 0.0]
     with pytest.raises(InputError, match="gain"):
         bench.entropy_stop(runs[0][:7] + (None,), 0.1, 2)
+    import argparse
+    args = argparse.Namespace(budget_entropy=0.1, add=[f"a={path}"])
+    assert bench.budget_stops(args, {"a": runs}, {}) == {"a": [3, 3]}
+    with pytest.raises(InputError, match="names 1"):  # one class named: no entropy to rebuild
+        bench.budget_stops(args, {"a": runs[:1]}, {})
+    with pytest.raises(InputError, match=f"--add {path}: .*gain"):  # which CSV lacks its gains
+        bench.budget_stops(args, {"a": [r[:7] + (None,) for r in runs]}, {})
 
 
 def test_seconds_validation_stops_budgets_and_its_rule_by_hand():

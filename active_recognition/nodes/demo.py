@@ -149,9 +149,12 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                 why = ("no result (timed out)" if result is None else
                        {"no_object": "no object seen",
                         "no_image": "no image came (no view could be had)",
-                        "timeout": "the episode ran past episode_timeout"}[result["status"]])
+                        "timeout": "the episode ran past episode_timeout",
+                        "unknown": f"answered unknown (best guess {result.get('label') or 'none'})"}.get(
+                           result["status"], f"ended {result['status']}"))
                 out(f"object {n + 1}/{len(order)}: true={truth:<12} {why}")
-                rows.append((False, 0, ms, 0.0))
+                rows.append((False, 0, ms, float("nan")) if result is None else
+                            (False, result["views"], ms, result["robot_seconds"]))
                 continue
             ok = result["label"] == truth
             rows.append((ok, result["views"], ms, result["robot_seconds"]))
@@ -165,7 +168,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                    "answered": sum(r[1] > 0 for r in rows),
                    "accuracy": float(np.mean([r[0] for r in rows])),
                    "mean_views": float(np.mean([r[1] for r in rows])),
-                   "mean_robot_seconds": float(np.mean([r[3] for r in rows])),
+                   "mean_robot_seconds": float(np.nanmean([r[3] for r in rows])) if any(
+                       not np.isnan(r[3]) for r in rows) else float("nan"),
                    "ms_per_episode_p50": float(np.median([r[2] for r in rows])),
                    "rejected_images": recognizer.loop.counts["rejected"]}
         out(f"planner {recognizer.core.planner}: "
