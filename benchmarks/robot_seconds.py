@@ -92,7 +92,7 @@ def planner_figures(cost, rows, budget_stops=None):
                 "stop_views": float(views.mean()), "stop_travel_deg": float(np.degrees(moved).mean()),
                 "stop_seconds_mean": float(seconds.mean()), "stop_seconds_p90": float(np.percentile(seconds, 90))})
     cumulative = [spent(cost, r[5]) for r in rows]
-    stops = [r[2] for r in rows] if budget_stops is None else budget_stops
+    stops = stops_within(rows, budget_stops)
     for budget in BUDGETS:
         taken = [taken_within(c, stop, budget) for stop, c in zip(stops, cumulative)]
         right = np.array([r[1] == r[4][n - 1] for r, n in zip(rows, taken)], dtype=float)
@@ -101,27 +101,32 @@ def planner_figures(cost, rows, budget_stops=None):
     return out
 
 
-def budget_stops(args, runs, committed_runs):
-    """{added planner: its episodes' stops within a budget, at --budget-entropy} ({} without it)."""
-    if args.budget_entropy is None:
+def budget_stops(threshold, runs, added):
+    """{added planner: its episodes' stops within a budget, at `threshold` nats (--budget-entropy)}
+    ({} without one); added: {planner: the CSV --add read it from}."""
+    if threshold is None:
         return {}
-    if not (0 <= args.budget_entropy <= 10):  # NaN too
-        raise InputError(f"--budget-entropy must be a number of nats in [0, 10], got {args.budget_entropy}")
-    if not args.add:
+    if not (0 <= threshold <= 10):  # NaN too
+        raise InputError(f"--budget-entropy must be a number of nats in [0, 10], got {threshold}")
+    if not added:
         raise InputError("--budget-entropy applies to the episodes --add names: add NAME=CSV")
     classes = len({r[1] for rows in runs.values() for r in rows})
     if classes < 2:
         raise InputError(f"--budget-entropy needs the number of classes, read from the CSVs' `true` "
                          f"column: it names {classes}")
     stops = {}
-    for extra in args.add:
-        name, _, path = extra.partition("=")
-        for planner in [p for p in runs if p not in committed_runs and (p == name or p.startswith(name + "/"))]:
-            try:
-                stops[planner] = [entropy_stop(r, args.budget_entropy, classes) for r in runs[planner]]
-            except InputError as e:
-                raise InputError(f"--add {path}: {e}") from None
+    for planner, path in added.items():
+        try:
+            stops[planner] = [entropy_stop(r, threshold, classes) for r in runs[planner]]
+        except InputError as e:
+            raise InputError(f"--add {path}: {e}") from None
     return stops
+
+
+def stops_within(rows, budget_stops=None):
+    """Where each episode of rows stops within a budget: at budget_stops where given, else where
+    its stop rule stopped it."""
+    return [r[2] for r in rows] if budget_stops is None else budget_stops
 
 
 def robot_summary(path, cost=RobotTime()):
@@ -134,7 +139,7 @@ def paired(cost, rows, others, budget_stops=None):
     `others` on the episodes they share (object and start), at the cuts and the budgets (rows'
     episodes stopping there at `budget_stops`, default their stop rule's); the starts of one
     object one sample."""
-    stops = [r[2] for r in rows] if budget_stops is None else budget_stops
+    stops = stops_within(rows, budget_stops)
     mine = {(r[0], r[6]): r[:2] + (stop,) + r[3:] for r, stop in zip(rows, stops)}
     out = {}
     for name, theirs in others.items():
@@ -171,14 +176,16 @@ def main():
         if not Path(args.per_object).is_file():
             raise InputError(f"--per-object {args.per_object}: no such file")
         runs = episodes(args.per_object)
-        committed_runs = dict(runs)
+        committed_runs, added = dict(runs), {}  # added: {planner: the CSV it came from}
         for extra in args.add:
             name, sep, path = extra.partition("=")
             if not sep or not name or not Path(path).is_file():
                 raise InputError(f"--add {extra}: NAME=CSV of an evaluation's per_object.csv expected")
             more = episodes(path)
-            runs.update({name if len(more) == 1 else f"{name}/{p}": rows for p, rows in more.items()})
-        stops = budget_stops(args, runs, committed_runs)
+            for p, rows in more.items():
+                key = name if len(more) == 1 else f"{name}/{p}"
+                runs[key], added[key] = rows, path
+        stops = budget_stops(args.budget_entropy, runs, added)
     figures = {name: planner_figures(cost, rows, stops.get(name)) for name, rows in runs.items()}
     print(f"{'planner':<16} travel 3/6/9 (deg)   stop rule: accuracy, views, travel, seconds mean / p90   "
           + "  ".join(f"<= {b:g} s" for b in BUDGETS))
@@ -215,7 +222,7 @@ def plot(cost, runs, path, budget_stops=None):
     fig, ax = plt.subplots(figsize=(7, 4.5))
     for name, rows in runs.items():
         cumulative = [spent(cost, r[5]) for r in rows]
-        stops = (budget_stops or {}).get(name) or [r[2] for r in rows]
+        stops = stops_within(rows, (budget_stops or {}).get(name))
         steps = [[taken_within(c, stop, b) for stop, c in zip(stops, cumulative)] for b in budgets]
         acc = [np.mean([r[1] == r[4][n - 1] for r, n in zip(rows, taken)]) for taken in steps]
         ax.plot(budgets, 100 * np.array(acc), label=name, linestyle="--" if name == "oracle" else "-")

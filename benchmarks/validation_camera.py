@@ -123,8 +123,8 @@ def score_rows(runs, near=None):
     header = ["group", "object", "label", "near"] + per_view
     rows = [header]
     for group, episodes in (("known", runs["known"][0]), ("unknown", runs["unknown"])):
-        for i, r in enumerate(episodes):
-            per_view = [list(answers([r], STEPS)[0]), r.prototypes, r.energies,
+        for i, (r, answered) in enumerate(zip(episodes, answers(episodes, STEPS))):
+            per_view = [list(answered), r.prototypes, r.energies,
                         open_set.msp(r.probs) if r.probs else []]
             cells = [f"{v:.5g}" if isinstance(v, float) else str(v) for values in per_view
                      for v in (list(values) + [""] * STEPS)[:STEPS]]

@@ -160,13 +160,12 @@ def test_the_robot_seconds_benchmark_stops_budgeted_episodes_at_their_own_entrop
     assert d["budget_12"] == [0.5, 0.5] and d["cut_3"] == [0.0, 0.0]
     with pytest.raises(InputError, match="gain"):
         bench.entropy_stop(runs[0][:7] + (None,), 0.1, 2)
-    import argparse
-    args = argparse.Namespace(budget_entropy=0.1, add=[f"a={path}"])
-    assert bench.budget_stops(args, {"a": runs}, {}) == {"a": [3, 3]}
+    added = {"a": path}
+    assert bench.budget_stops(0.1, {"a": runs}, added) == {"a": [3, 3]}
     with pytest.raises(InputError, match="names 1"):  # one class named: no entropy to rebuild
-        bench.budget_stops(args, {"a": runs[:1]}, {})
+        bench.budget_stops(0.1, {"a": runs[:1]}, added)
     with pytest.raises(InputError, match=f"--add {path}: .*gain"):  # which CSV lacks its gains
-        bench.budget_stops(args, {"a": [r[:7] + (None,) for r in runs]}, {})
+        bench.budget_stops(0.1, {"a": [r[:7] + (None,) for r in runs]}, added)
 
 
 def test_seconds_validation_stops_budgets_and_its_rule_by_hand():
