@@ -6,7 +6,10 @@ learns to be unsure of them, its logits pushed toward the uniform distribution.
 
 The outliers are the generated `unknowns` of their `train` styles only (datasets/unknowns.py):
 their `val` styles choose the open-set threshold, their `test` styles are never read by training;
-with `near` a share of each batch is furniture-like objects of no known class (datasets/near.py).
+with `near` a share of each batch is furniture-like objects of no known class (datasets/near.py),
+with `real` a share is real meshes of other classes: the real unknowns' `train` split
+(datasets/real_unknowns.py, repositories apart from its val and test splits' and rebuilt under
+`real_root`).
 Each batch draws `outlier_batch` of them from a generator of its own, keyed like the batch's, so
 the known batch (its shapes, cameras, views and every draw of its generator) stays what it is
 without outliers. Pre-training renders them at random views like the known shapes; the joint
@@ -25,10 +28,12 @@ from torch import nn
 from . import depth_layer
 from .datasets import default_cache_dir, open_dataset
 from .datasets.near import near_unknowns
+from .datasets.real_unknowns import FETCH
 from .datasets.shapes import Shapes
 from .episode import Episode, EpisodeConfig, Planner, run
 from .policies import unavailable
 from .reach import reach_of
+from .validation import InputError
 
 STREAM = 7919  # the last key of the outlier generator: apart from every known batch's
 PER_CLASS = None  # unknown objects per kind (None: the split's own count; tests take fewer)
@@ -55,24 +60,31 @@ class Outliers:
     """The unknowns of the train styles seen as the known shapes are: the same camera and
     augmentation, `batch` of them to a batch, their loss weighted by `weight`."""
 
-    def __init__(self, camera, augment, limits, weight, batch, views_per_shape, near=0.0):
+    def __init__(self, camera, augment, limits, weight, batch, views_per_shape, near=0.0, real=0.0,
+                 real_root=None):
         ds = open_dataset("unknowns", split="train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
         self.shapes, self.augment, self.limits = Shapes(ds, camera), augment, limits
         self.weight, self.batch, self.k = weight, min(batch, len(ds)), views_per_shape
-        self.near, self.near_batch = None, 0
+        self.near, self.near_batch, self.real, self.real_batch = None, 0, None, 0
         if near > 0:  # a share of each batch from the near unknowns (datasets/near.py)
             nds = near_unknowns("train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
             self.near, self.near_batch = Shapes(nds, camera), min(len(nds), max(1, round(near * batch)))
-            self.batch = min(len(ds), batch - self.near_batch)
+        if real > 0:  # a share from real meshes of other classes (the real unknowns' train split)
+            rds = open_dataset("real_unknowns", real_root, "train", cache_dir=default_cache_dir())
+            if not len(rds):
+                raise InputError(f"real_outliers: no mesh under {real_root}/train: rebuild them with {FETCH}")
+            self.real, self.real_batch = Shapes(rds, camera), min(len(rds), max(1, round(real * batch)))
+        if near > 0 or real > 0:
+            self.batch = min(len(ds), max(0, batch - self.near_batch - self.real_batch))
 
     def inputs(self, key, stage, starts):
         """The outliers of the batch keyed `key` (the known batch's generator key) in `stage`."""
         rng = np.random.default_rng([*key, STREAM])
         idx = rng.choice(len(self.shapes), self.batch, replace=False)
         cams = self.shapes.cameras(idx, self.augment, rng)
-        if self.near is not None:
-            near = rng.choice(len(self.near), self.near_batch, replace=False)
-            cams = cams + self.near.cameras(near, self.augment, rng)
+        for pool, n in ((self.near, self.near_batch), (self.real, self.real_batch)):
+            if pool is not None:
+                cams = cams + pool.cameras(rng.choice(len(pool), n, replace=False), self.augment, rng)
         if stage == "joint":
             return OutlierInputs(self.weight, cams, starts[rng.integers(0, len(starts), len(cams))],
                                  None, rng)

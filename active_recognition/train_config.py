@@ -58,6 +58,11 @@ class TrainConfig:
     near_outliers: float = option(0.0, lo=0, hi=1, help=(
         "--outliers: the share of each batch's unknown objects that are furniture-like (stools, "
         "shelves, cabinets, appliances, pianos, mantels: datasets/near.py), the rest the unknowns'"))
+    real_outliers: float = option(0.0, lo=0, hi=1, help=(
+        "--outliers: the share of each batch's unknown objects that are real meshes of other "
+        "classes: the real unknowns' train split under --real-outliers-root (rebuilt by "
+        "tools/fetch_real_unknowns.py; never its val or test split)"))
+    real_outliers_root: str = option("", help="--real-outliers: the real unknowns' folder")
     # every training view keeps inside the views a robot can take
     limits: ViewLimits = nested(ViewLimits, flat=True)
     band_share: float = option(0.0, lo=0, hi=1, help=(
@@ -149,6 +154,12 @@ class TrainConfig:
         if self.outliers and self.joint_epochs and self.policy != "imitation":
             raise InputError(f"outliers: the joint stage's outlier episodes are imitation's (random "
                              f"candidate views), not policy {self.policy}'s: use policy imitation or outliers 0")
+        if self.real_outliers and not (self.outliers and self.real_outliers_root):
+            raise InputError("real_outliers: needs outliers above 0 and real_outliers_root, the folder "
+                             "tools/fetch_real_unknowns.py rebuilt the real unknowns in")
+        if self.near_outliers + self.real_outliers > 1:
+            raise InputError(f"near_outliers {self.near_outliers:g} and real_outliers {self.real_outliers:g} are "
+                             f"shares of one batch's unknown objects: together at most 1")
         if self.teacher_share < 1 and self.policy != "imitation":
             raise InputError(f"teacher_share: only imitation has a teacher, not policy {self.policy}: "
                              f"leave teacher_share at 1")

@@ -72,6 +72,38 @@ def test_near_outliers_take_their_share_of_the_batch_and_keep_the_known_batch(tm
         TrainConfig(**TINY, outliers=0.5, near_outliers=1.5, out=str(tmp_path / "x"))
 
 
+def test_real_outliers_take_their_share_from_the_train_split_alone(tmp_path):
+    import trimesh
+
+    root = tmp_path / "real"
+    for split, kinds in (("train", ("crate", "shelf")), ("val", ("lamp",))):
+        for i, kind in enumerate(kinds):
+            (root / split / kind).mkdir(parents=True)
+            for j in range(2):  # boxes of two proportions a kind, in metres
+                box = trimesh.creation.box((0.3 + 0.2 * j, 0.4, 0.8 + 0.3 * i))
+                (root / split / kind / f"repo__{kind}{j}.ply").write_bytes(box.export(file_type="ply"))
+    plain = Trainer(TrainConfig(**TINY, outliers=0.5, out=str(tmp_path / "plain")), progress=False)
+    real = Trainer(TrainConfig(**TINY, outliers=0.5, real_outliers=0.5, real_outliers_root=str(root),
+                               out=str(tmp_path / "on")), progress=False)
+    o = real.outliers
+    assert o.real.ds.split == "train" and o.real.ds.classes == ["crate", "shelf"] and len(o.real) == 4
+    assert o.batch == o.real_batch == 2 and o.near is None
+    idx = np.arange(6)
+    a, b = plain.inputs("pretrain", 0, 1, idx, None), real.inputs("pretrain", 0, 1, idx, None)
+    assert np.array_equal(a.depth, b.depth) and a.rng.random() == b.rng.random()  # the known batch as it was
+    assert len(b.outliers.cameras) == 4 and b.outliers.depth.shape[0] == 4 * TINY["views_per_shape"]
+    assert len(o.real._cams) == 2  # two real meshes drawn for the batch
+    for bad, match in ((dict(real_outliers=0.5), "real_outliers_root"),
+                       (dict(real_outliers=0.6, near_outliers=0.6, real_outliers_root=str(root)), "at most 1")):
+        with pytest.raises(InputError, match=match):
+            TrainConfig(**TINY, outliers=0.5, **bad, out=str(tmp_path / "x"))
+    empty = tmp_path / "empty" / "train"
+    empty.mkdir(parents=True)
+    with pytest.raises(InputError, match="no mesh"):
+        Trainer(TrainConfig(**TINY, outliers=0.5, real_outliers=0.5, real_outliers_root=str(empty.parent),
+                            out=str(tmp_path / "e")), progress=False)
+
+
 def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path):
     from active_recognition.train import joint_loss
 

@@ -145,5 +145,7 @@ def test_bad_arguments_and_a_missing_root_say_what_to_do(tiny, tmp_path, capsys)
         real_unknowns(tmp_path / "nowhere", "test")
     with pytest.raises(InputError, match="fetch_real_unknowns"):
         open_dataset("real_unknowns", tmp_path, "val")  # a root without the split
-    with pytest.raises(InputError, match="val, test"):
-        real_unknowns(tmp_path, "train")
+    with pytest.raises(InputError, match="fetch_real_unknowns"):
+        real_unknowns(tmp_path, "train")  # a valid split not rebuilt here
+    with pytest.raises(InputError, match="train, val, test"):
+        real_unknowns(tmp_path, "cross")

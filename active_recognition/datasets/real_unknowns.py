@@ -23,7 +23,7 @@ from ..validation import InputError
 
 MANIFEST = Path(__file__).with_name("real_unknowns.tsv")
 COLUMNS = ("split", "repo", "commit", "path", "blob", "bytes", "class", "object", "unit", "near")
-SPLITS = ("val", "test")
+SPLITS = ("train", "val", "test")  # train: outliers for training alone (train option real_outliers)
 FETCH = "python tools/fetch_real_unknowns.py --out DIR"  # the command that rebuilds the meshes
 
 
@@ -78,7 +78,7 @@ def near(ds: ShapeDataset, i) -> bool:
 
 
 def real_unknowns(root, split="test", cache_dir=None):
-    """The rebuilt objects of `split` (`val` or `test`) under `root`, <root>/<split>/<class>/*.ply,
+    """The rebuilt objects of `split` (`train`, `val` or `test`) under `root`, <root>/<split>/<class>/*.ply,
     classes sorted; the files are in metres (unit 1), so each item's size() is its box's longest
     edge in metres."""
     if split not in SPLITS:
