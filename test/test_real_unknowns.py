@@ -35,7 +35,7 @@ def load_tool():
 def test_the_shipped_manifest_is_well_formed_and_its_splits_apart():
     rows = read_manifest()  # the header is COLUMNS, numbers parse, split/unit/near in range
     assert MANIFEST.read_text().startswith("#") and rows
-    assert {r["split"] for r in rows} == {"val", "test"}
+    assert {r["split"] for r in rows} == {"train", "val", "test"}
     for r in rows:
         assert HEX40.fullmatch(r["commit"]) and HEX40.fullmatch(r["blob"]) and r["bytes"] > 0, r
         assert r["unit"] > 0 and r["near"] in (0, 1) and "/" in r["repo"], r
@@ -45,7 +45,8 @@ def test_the_shipped_manifest_is_well_formed_and_its_splits_apart():
         repos[r["split"]].add(r["repo"])
         blobs[r["split"]].add(r["blob"])
         objects[ply_path(r)].add((r["repo"], r["object"], r["class"], r["near"]))
-    assert not repos["val"] & repos["test"] and not blobs["val"] & blobs["test"]
+    for a, b in (("val", "test"), ("train", "val"), ("train", "test")):
+        assert not repos[a] & repos[b] and not blobs[a] & blobs[b], (a, b)
     assert all(len(v) == 1 for v in objects.values())  # one object per output file, one class and near each
     assert len([r["blob"] for r in rows]) == len({r["blob"] for r in rows})  # no file twice
     assert {"bookshelf", "wardrobe", "bench"} <= near_classes() and "cup" not in near_classes()

@@ -8,8 +8,9 @@ GitHub repositories at fixed commits (with their git blob hashes) and how they m
 files of one `object` are merged and scaled by `unit` (metres per file unit) into metres. The
 meshes are never committed: `python tools/fetch_real_unknowns.py --out DIR` rebuilds them as
 DIR/<split>/<class>/<repository>__<object>.ply, in metres, and `real_unknowns(DIR, split)` opens
-them. Two splits, from disjoint repositories and sharing no file: `val` (where an operating point
-is chosen) and `test` (read only for the final figures). `near` marks the furniture-like classes
+them. Three splits, from disjoint repositories and sharing no file: `train` (outliers for
+training alone: train option real_outliers), `val` (where an operating point is chosen) and
+`test` (read only for the final figures). `near` marks the furniture-like classes
 that are none of the ten (shelves, cabinets, benches, stairs, kitchen appliances): the unknowns
 most like the known classes.
 """
