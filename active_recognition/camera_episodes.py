@@ -33,7 +33,7 @@ class CameraRun:
     status: str
     label: int  # the object's true class
     right: bool
-    score: float  # the running prototype score at the end (NaN where none was taken)
+    score: float  # the running unknown score at the end, the checkpoint's own (NaN where none was taken)
     probs: list
     states: list
     energies: list
@@ -87,7 +87,7 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
         truth = ds.classes[label]
         runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
                               obs is not None and obs.status == "recognized" and obs.label == truth,
-                              float(np.mean(core.prototypes)) if core.prototypes else float("nan"),
+                              float(np.mean(core.open_set_scores())) if core.open_set_scores() else float("nan"),
                               probs, states, list(core.energies), list(core.prototypes), core.views_taken()))
     return runs
 

@@ -137,19 +137,21 @@ def build_model(ckpt, path="<checkpoint>"):
     return model
 
 
-OPEN_SET_SCORE = "prototype_mean"  # the score of a checkpoint's "open_set" (open_set_fit.py)
+OPEN_SET_SCORE = "prototype_mean"  # the default score of a checkpoint's "open_set" (open_set_fit.py)
+OPEN_SET_SCORES = ("prototype_mean", "energy_mean")  # the scores an open_set may carry thresholds for
 
 
 def checked_open_set(entry, num_classes, state_size):
-    """A checkpoint's `open_set` entry checked: {"score": "prototype_mean", "means": float tensor
-    (T, C, S), "threshold": a number in (0, 2] or one per step (a list or 1-D tensor; past its
-    end, the last), "fitted_on": dict}; InputError naming what is wrong. The threshold comes
-    back as a list of floats, one per step (a single number: a list of one)."""
+    """A checkpoint's `open_set` entry checked: {"score": one of OPEN_SET_SCORES, "means": float
+    tensor (T, C, S), "threshold": a number or one per step (a list or 1-D tensor; past its end,
+    the last): in (0, 2] for prototype_mean (1 - a cosine), finite for energy_mean, "fitted_on":
+    dict}; InputError naming what is wrong. The threshold comes back as a list of floats, one per
+    step (a single number: a list of one)."""
     if not isinstance(entry, dict) or not {"score", "means", "threshold"} <= set(entry):
         raise InputError("open_set must be a dict with score, means and threshold "
                          f"(got {sorted(entry) if isinstance(entry, dict) else type(entry).__name__})")
-    if entry["score"] != OPEN_SET_SCORE:
-        raise InputError(f"open_set score must be {OPEN_SET_SCORE!r}, got {entry['score']!r}")
+    if entry["score"] not in OPEN_SET_SCORES:
+        raise InputError(f"open_set score must be one of {', '.join(OPEN_SET_SCORES)}, got {entry['score']!r}")
     means = entry["means"]
     if not torch.is_tensor(means) or not means.is_floating_point() or means.ndim != 3 or not len(means):
         raise InputError(f"open_set means must be a float tensor (steps, classes, state size), got "
@@ -162,7 +164,11 @@ def checked_open_set(entry, num_classes, state_size):
     threshold = entry["threshold"]
     steps = threshold.tolist() if torch.is_tensor(threshold) and threshold.ndim == 1 else (
         list(threshold) if isinstance(threshold, (list, tuple)) else [threshold])
-    if not steps or any(type(t) not in (int, float) or not 0 < t <= 2 for t in steps):
+    if entry["score"] == "energy_mean":
+        if not steps or any(type(t) not in (int, float) or not math.isfinite(t) for t in steps):
+            raise InputError(f"open_set threshold of energy_mean must be a finite number or one per step, "
+                             f"got {threshold!r}")
+    elif not steps or any(type(t) not in (int, float) or not 0 < t <= 2 for t in steps):
         raise InputError(f"open_set threshold must be a number in (0, 2] (1 - a cosine) or one per step, "
                          f"got {threshold!r}")
     if not isinstance(entry.get("fitted_on", {}), dict):

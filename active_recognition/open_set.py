@@ -206,14 +206,16 @@ def step_thresholds(threshold, steps):
     return threshold[np.minimum(np.arange(steps), len(threshold) - 1)]
 
 
-def held_thresholds(probs, scores, entropy_threshold, rate):
+def held_thresholds(probs, scores, entropy_threshold, rate, floor=1e-6):
     """(T,) per-step thresholds under the recognizer's hold that reject no more than 1 - `rate`
     of these known objects (probs (N, T, C), running scores (N, T)) in an episode cut after any
     number of views k: step by step, among the episodes the earlier steps' thresholds have not
     ended accepted (a confident step whose score is at most its step's threshold), the least
     threshold that leaves at most (1 - rate) N of them above it at step k. Where no more than
     that many are still open, the step's threshold is the least they allow (any open known
-    episode above it is one of that budget)."""
+    episode above it is one of that budget). No threshold is below `floor` (prototype_mean's
+    must be above 0; -inf for a score of any sign, such as energy_mean: where none is open, the
+    step's least known score)."""
     scores = np.asarray(scores, dtype=float)
     if not 0 < rate <= 1:
         raise InputError(f"the share of known objects to accept must lie in (0, 1], got {rate}")
@@ -222,8 +224,9 @@ def held_thresholds(probs, scores, entropy_threshold, rate):
     open_, out = np.ones(len(scores), bool), []
     for t in range(scores.shape[1]):
         still = np.sort(scores[open_, t])
-        thr = still[len(still) - budget - 1] if len(still) > budget else (still[0] if len(still) else 1e-6)
-        out.append(max(float(thr), 1e-6))
+        none = floor if np.isfinite(floor) else np.min(scores[:, t])
+        thr = still[len(still) - budget - 1] if len(still) > budget else (still[0] if len(still) else none)
+        out.append(max(float(thr), floor))
         open_ &= ~(sure[:, t] & (scores[:, t] <= out[-1]))
     return np.asarray(out)
 

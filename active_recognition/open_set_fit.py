@@ -3,8 +3,11 @@
 
 """Fit a model's `unknown` answer and store it in its checkpoint (the key `open_set`).
 
-The score is open_set's `prototype_mean`: the running mean, over the views an episode has taken,
-of 1 - the largest cosine similarity of the step's recurrent state to a class mean of that step.
+The score (--score) is open_set's `prototype_mean` (the default): the running mean, over the views
+an episode has taken, of 1 - the largest cosine similarity of the step's recurrent state to a
+class mean of that step; or `energy_mean`, the running mean of each view's energy (-log sum exp
+of its logits), for a model whose training taught it to be unsure of objects of no known class
+(outlier exposure). The class means are fitted and stored either way.
 The per-step class means (steps, classes, state size) are fitted on the states of episodes of
 --objects training objects (the training split less val, each class in the sample), each run by
 --planner (default auto: the recognizer's own, the checkpoint's default planner) from a seeded
@@ -24,7 +27,7 @@ of the generated ones. The checkpoint is rewritten atomically.
 
     python -m active_recognition.open_set_fit --checkpoint PATH --dataset modelnet --root DIR
         [--objects 600] [--known-rate 0.97] [--camera realsense] [--unknowns real_unknowns
-        --unknowns-root DIR] [--out PATH]
+        --unknowns-root DIR] [--score prototype_mean|energy_mean] [--out PATH]
 """
 from __future__ import annotations
 
@@ -71,10 +74,18 @@ def prototype_means(states, labels, num_classes):
     return np.stack([states[labels == c].mean(0) for c in range(num_classes)], 1).astype(np.float32)
 
 
-def scored(planner, model, shapes, objects, cfg, means, fixed_path=None):
-    """(probs (N, T, C), running prototype_mean (N, T)) of episodes of `objects` against `means`."""
+def running(score, states, logits, means):
+    """(N, T) the running `score` of episodes' states (N, T, S) against `means`, or of their
+    per-step logits (N, T, C) (energy_mean)."""
+    if score == "energy_mean":
+        return open_set.running_mean(open_set.energy(logits))
+    return open_set.prototype_mean(states, means)
+
+
+def scored(planner, model, shapes, objects, cfg, means, fixed_path=None, score=checkpoint.OPEN_SET_SCORE):
+    """(probs (N, T, C), running score (N, T)) of episodes of `objects` (prototype_mean against `means`)."""
     ro, rec = episodes(planner, model, shapes, objects, cfg, fixed_path)
-    return ro.probs, open_set.prototype_mean(rec["states"], means)
+    return ro.probs, running(score, rec["states"], rec["logits"], means)
 
 
 def flagged(probs, running, entropy_threshold, thresholds):
@@ -85,8 +96,11 @@ def flagged(probs, running, entropy_threshold, thresholds):
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
-        seed=0, val_objects=0, size=True, camera="model", unknowns="unknowns", unknowns_root=None):
+        seed=0, val_objects=0, size=True, camera="model", unknowns="unknowns", unknowns_root=None,
+        score=checkpoint.OPEN_SET_SCORE):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
+    if score not in checkpoint.OPEN_SET_SCORES:
+        raise InputError(f"score must be one of {', '.join(checkpoint.OPEN_SET_SCORES)}, got {score!r}")
     model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
     if not 0 < known_rate <= 1:
         raise InputError(f"known_rate: the share of known objects to accept must lie in (0, 1], got {known_rate}")
@@ -112,31 +126,35 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
             for name, s in (("known", val), ("unknown", unknown))}
     through = {}
     if camera == "model":
-        known = scored(planner, model, val, pick["known"], cfg, means, fixed_path)
-        other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path)
+        known = scored(planner, model, val, pick["known"], cfg, means, fixed_path, score)
+        other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path, score)
     else:
         groups = (train.ds, fit_on), (val.ds, pick["known"]), (unknown.ds, pick["unknown"], unknowns, unknowns_root)
         means, known, other, through = through_camera(path, planner, dataset, root, camera, steps, seed,
-                                                      size, *groups, means)
-    thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate)
+                                                      size, *groups, means, score)
+    floor = -np.inf if score == "energy_mean" else 1e-6  # an energy may be of any sign
+    thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
                  "seed": int(seed), "size": bool(size), "known_rate": float(known_rate), "unknowns": unknowns,
+                 "score": score,
                  "val_known": len(known[1]), "val_unknown": len(other[1]),
                  "val_known_rejected": round(float(flagged(*known, cfg.entropy_threshold, thresholds).mean()), 4),
                  "val_unknown_flagged": round(float(flagged(*other, cfg.entropy_threshold, thresholds).mean()), 4),
                  "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4), "camera": camera,
                  **through}
-    entry = {"score": checkpoint.OPEN_SET_SCORE, "means": torch.from_numpy(means),
+    entry = {"score": score, "means": torch.from_numpy(means),
              "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
     return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
 
 
-def through_camera(path, planner, dataset, root, preset, steps, seed, size, train, val, unknown, rendered):
+def through_camera(path, planner, dataset, root, preset, steps, seed, size, train, val, unknown, rendered,
+                   score=checkpoint.OPEN_SET_SCORE):
     """(means, known, unknown, notes) fitted on episodes through simulated camera `preset` as the
     node runs them (camera_episodes.py), each of `steps` images without a stop: the class means
     of the training episodes' states, or `rendered` (of the model's own renders) where those
-    tell the val unknowns better (val AUROC after `steps` views); known and unknown: (probs,
-    running scores) of the val episodes against the chosen means."""
+    tell the val unknowns better (val AUROC of prototype_mean after `steps` views); known and
+    unknown: (probs, running `score`) of the val episodes (prototype_mean against the chosen
+    means)."""
     from .camera_episodes import camera_runs, full_length, recording_core
 
     core = recording_core(path, planner, steps, seed, use_size=size)  # every step recorded
@@ -155,6 +173,10 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
     best = max(auroc, key=auroc.get)
     notes = {"means_from": best, "val_auroc_by_means": {k: round(v, 4) for k, v in auroc.items()},
              "train_objects_through_camera": len(runs["train"][2])}
+    if score == "energy_mean":  # each view's energy, as the recognizer took it
+        return candidates[best], *(
+            (runs[g][0], open_set.running_mean(np.array([r.energies[:steps] for r in runs[g][2]])))
+            for g in ("known", "unknown")), notes
     return candidates[best], scored_by[best]["known"], scored_by[best]["unknown"], notes
 
 
@@ -185,12 +207,17 @@ def main(argv=None):
         "the unknown val objects scored beside the known: generated (unknowns) or real meshes "
         "(real_unknowns, under --unknowns-root: tools/fetch_real_unknowns.py)"))
     ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
+    ap.add_argument("--score", default=checkpoint.OPEN_SET_SCORE, choices=checkpoint.OPEN_SET_SCORES, help=(
+        "the unknown score the thresholds are on: prototype_mean (the default: the state's cosine "
+        "distance to the class means) or energy_mean (each view's -log sum exp of the logits, for "
+        "a model trained with outliers)"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     args = ap.parse_args(argv)
     try:
         path = checkpoint.model_path(args.checkpoint, args.dataset)
         entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
-                    args.seed, args.val_objects, args.size, args.camera, args.unknowns, args.unknowns_root)
+                    args.seed, args.val_objects, args.size, args.camera, args.unknowns, args.unknowns_root,
+                    args.score)
         store(path, entry, args.out)
     except InputError as e:
         ap.error(str(e))

@@ -84,11 +84,11 @@ class SensingConfig:
     unknown_threshold: float = option(-1.0, lo=-1, hi=2, help=(
         "an episode whose mean prototype score over its views (1 - the cosine of each view's "
         "recurrent state to the nearest class mean) ends above this ends with status unknown, "
-        "its best class and probability kept; -1 = the checkpoint's own thresholds, one for each "
-        "number of views (none where it carries no open_set: python -m "
+        "its best class and probability kept; -1 = the checkpoint's own score and thresholds, one "
+        "for each number of views (none where it carries no open_set: python -m "
         "active_recognition.open_set_fit), 0 = never; either this or unknown_energy suffices"))
     hold_unknown: bool = option(True, help=(
-        "while the mean prototype score is above the unknown threshold, a confident answer does "
+        "while the mean unknown score is above the unknown threshold, a confident answer does "
         "not end the episode: the object that looks like none of the classes is looked at until "
         "it looks like one, or for max_views"))
 
@@ -295,19 +295,27 @@ class ActiveRecognizer:
         return self.looks_unknown()
 
     def looks_unknown(self):
-        """Whether the mean prototype score of the views so far is above the threshold in force
-        at this step."""
-        return self.prototypes != [] and float(np.mean(self.prototypes)) > self.prototype_threshold()
+        """Whether the mean score of the views so far (open_set_scores) is above the threshold in
+        force at this step."""
+        scores = self.open_set_scores()
+        return scores != [] and float(np.mean(scores)) > self.prototype_threshold()
+
+    def open_set_scores(self):
+        """The per-view scores the unknown answer reads: their energies where the checkpoint's
+        open_set score is energy_mean (and no unknown_threshold overrides it), else prototypes."""
+        own = self.sensing.unknown_threshold < 0 and self.model.open_set is not None
+        return self.energies if own and self.model.open_set["score"] == "energy_mean" else self.prototypes
 
     def prototype_threshold(self):
-        """The prototype_mean threshold in force after the views scored so far (inf: none): the
-        checkpoint's for that many views, or the one sensing.unknown_threshold sets for all."""
+        """The threshold in force after the views scored so far (inf: none): the checkpoint's for
+        that many views (on its own score), or the prototype_mean one sensing.unknown_threshold
+        sets for all."""
         chosen = self.sensing.unknown_threshold
         if chosen == 0 or self.model.open_set is None:
             return math.inf
         if chosen > 0:
             return chosen
-        return float(step_thresholds(self.model.open_set["threshold"], max(len(self.prototypes), 1))[-1])
+        return float(step_thresholds(self.model.open_set["threshold"], max(len(self.open_set_scores()), 1))[-1])
 
     @contextmanager
     def threads(self):

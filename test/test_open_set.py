@@ -201,14 +201,14 @@ def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
         SensingConfig(unknown_energy=1.0)
 
 
-def stored_recognizer(tmp_path, name, means, threshold, sensing, **episode):
+def stored_recognizer(tmp_path, name, means, threshold, sensing, score="prototype_mean", **episode):
     """An ActiveRecognizer on procedural.pt rewritten with a hand-made open_set entry."""
     from active_recognition import checkpoint, open_set_fit
     from active_recognition.reach import ViewLimits
     from active_recognition.recognizer import ActiveRecognizer
 
     path = tmp_path / f"{name}.pt"
-    entry = {"score": "prototype_mean", "means": torch.as_tensor(means, dtype=torch.float32),
+    entry = {"score": score, "means": torch.as_tensor(means, dtype=torch.float32),
              "threshold": threshold, "fitted_on": {"by": "hand"}}
     open_set_fit.store(checkpoint.shipped("procedural"), entry, path)
     from active_recognition.episode import EpisodeConfig
@@ -300,7 +300,8 @@ def test_held_stops_end_at_the_first_confident_step_that_looks_known():
     (lambda e: e.update(threshold=3.0), "threshold"),
     (lambda e: e.update(threshold=torch.tensor([0.3, 0.0])), "threshold"),
     (lambda e: e.update(threshold=[]), "threshold"),
-    (lambda e: e.update(score="energy_mean"), "score"),
+    (lambda e: e.update(score="msp_mean"), "score"),
+    (lambda e: e.update(score="energy_mean", threshold=[-3.0, float("nan")]), "energy_mean must be a finite"),
     (lambda e: e.pop("means"), "means")])
 def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, message):
     from active_recognition import checkpoint
@@ -318,6 +319,35 @@ def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, m
     checkpoint.save(tmp_path / "bad.pt", {**ckpt, "open_set": entry})
     with pytest.raises(CheckpointError, match=message):
         checkpoint.load_model(tmp_path / "bad.pt")
+
+
+def test_an_energy_mean_open_set_reads_the_views_energies(tmp_path):
+    """A checkpoint whose open_set score is energy_mean: the episode's mean energy against its
+    threshold decides, whatever the class means say (random here); a positive unknown_threshold
+    still sets a prototype_mean threshold."""
+    from active_recognition import checkpoint
+    from active_recognition.recognizer import SensingConfig
+    from active_recognition.simulated_camera import SimulatedCamera
+
+    sim = SimulatedCamera()
+    sim.load(dataset="procedural", split="test", index=0)
+    model = checkpoint.load_model(checkpoint.shipped("procedural"))[0]
+    c, s = model.config.num_classes, model.config.state_size
+    means = np.random.default_rng(0).normal(size=(10, c, s))
+    plain = stored_recognizer(tmp_path, "plain", means, 2.0, SensingConfig(hold_unknown=False))
+    obs, _ = episode_states(plain, sim)
+    mean_energy = float(np.mean(plain.energies))
+    assert obs.status == "recognized" and len(plain.energies) == obs.views and np.isfinite(mean_energy)
+    ends = {}
+    for name, threshold, sensing in (("below", mean_energy - 0.5, SensingConfig(hold_unknown=False)),
+                                     ("above", mean_energy + 0.5, SensingConfig(hold_unknown=False)),
+                                     ("override", mean_energy - 0.5, SensingConfig(unknown_threshold=2.0,
+                                                                                   hold_unknown=False))):
+        core = stored_recognizer(tmp_path, name, means, threshold, sensing, score="energy_mean")
+        ends[name] = episode_states(core, sim)[0]
+        assert core.open_set_scores() is (core.energies if name != "override" else core.prototypes)
+    assert ends["below"].status == "unknown" and ends["below"].label == obs.label  # its energy is above
+    assert ends["above"].status == "recognized" and ends["override"].status == "recognized"
 
 
 def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_path, dataset_cache, monkeypatch):
@@ -354,6 +384,37 @@ def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_pa
     stored = torch.load(tmp_path / "stored.pt", weights_only=True)["open_set"]
     assert stored["threshold"] == entry["threshold"] and torch.equal(stored["means"], entry["means"])
     assert checkpoint.load_model(tmp_path / "stored.pt")[0].open_set["threshold"] == entry["threshold"]
+
+
+def test_open_set_fit_on_energy_mean_holds_thresholds_of_the_val_energies(dataset_cache, monkeypatch):
+    """fit --score energy_mean: its thresholds are held_thresholds (floor -inf) of the val
+    episodes' running mean energies, recomputed here from their logits; a bad score is refused."""
+    from active_recognition import checkpoint, open_set, open_set_fit
+    from active_recognition.datasets import open_splits
+    from active_recognition.datasets.shapes import Shapes
+    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.episode import ROBOT
+    from active_recognition.evaluate import EvalConfig
+
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    path = checkpoint.shipped("procedural")
+    entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10,
+                             score="energy_mean")
+    assert entry["score"] == entry["fitted_on"]["score"] == "energy_mean" and all(t < 0 for t in entry["threshold"])
+    model = checkpoint.load_model(path)[0]
+    cfg = EvalConfig(dataset="procedural", split="val", steps=3, size=False, shared=False,
+                     entropy_threshold=ROBOT.entropy_threshold, travel_cost=ROBOT.travel_cost)
+    size = model.config.image_size
+    val = Shapes(open_splits("procedural", None, ("val",))["val"], CameraConfig(size, size, radius=model.config.radius))
+    pick = np.sort(np.random.default_rng(0).permutation(len(val))[:10])
+    planner, fixed_path = open_set_fit.node_planner("auto", model, checkpoint.read(path))
+    ro, rec = open_set_fit.episodes(planner, model, val, pick, cfg, fixed_path)
+    energies = -np.log(np.exp(rec["logits"].astype(float)).sum(-1))  # each step's, by hand
+    expected = open_set.held_thresholds(ro.probs, np.cumsum(energies, 1) / np.arange(1, 4), cfg.entropy_threshold,
+                                        0.8, floor=-np.inf)
+    np.testing.assert_allclose(entry["threshold"], expected, rtol=1e-6)
+    with pytest.raises(InputError, match="score must be one of"):
+        open_set_fit.fit(path, "procedural", objects=20, steps=3, val_objects=10, score="msp")
 
 
 def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
@@ -410,6 +471,10 @@ def test_held_thresholds_reject_at_most_the_budget_at_every_cut_and_no_lower_one
                 assert rejected(lower, k) > budget
     with pytest.raises(InputError, match="share"):
         held_thresholds(probs, scores, 0.5, 1.5)
+    # a score of any sign (energy_mean), floor -inf: the thresholds move with the scores
+    for rate in (0.8, 0.95):
+        np.testing.assert_allclose(held_thresholds(probs, scores - 10.0, 0.5, rate, floor=-np.inf),
+                                   held_thresholds(probs, scores, 0.5, rate) - 10.0)
 
 
 def test_step_thresholds_run_on_past_their_last_step():
