@@ -18,8 +18,8 @@ For each, after 3, 6 and 10 views: the AUROC (known against unknown) and the sha
 above the threshold that rejects 3 % and 5 % of the known ones; and for prototype_mean the same
 with a threshold per answered class (`per_class`: each class's own 97th / 95th percentile, fitted
 on one half of the known objects and applied to the other, two folds: the known share rejected
-is measured, not assumed). Writes docs/results/modelnet10/open_set_scores.json (a partial run
-must give --out); last line JSON.
+is measured, not assumed), beside one threshold for all that rejects that measured share.
+Writes docs/results/modelnet10/open_set_scores.json (a partial run must give --out); last line JSON.
 
     python benchmarks/open_set_scores.py --root ~/data/ModelNet10 --unknowns-root ~/data/real_unknowns
         [--checkpoint PATH] [--objects 600] [--unknowns unknowns]
@@ -102,7 +102,8 @@ def table(known, unknown):
             rej, flag = per_class(k, known["answers"][:, t - 1], u, unknown["answers"][:, t - 1], r)
             pc = round(r * 100)
             rows.setdefault("prototype_mean per_class", {}).setdefault(f"{t}", {}).update(
-                {f"known_rejected_at_{pc}pc": round(rej, 4), f"flagged_at_{pc}pc": round(flag, 4)})
+                {f"known_rejected_at_{pc}pc": round(rej, 4), f"flagged_at_{pc}pc": round(flag, 4),
+                 f"one_threshold_flagged_at_{pc}pc_rate": round(flagged_at(k, u, rej), 4)})
     return rows
 
 
