@@ -51,15 +51,17 @@ def r4(x):
 
 
 def stored_point(entry, known, unknown, entropy_threshold):
-    """The operating point of the checkpoint's own open_set (prototype_mean against its class
-    means and per-step thresholds) on the test runs known and unknown ((Rollout, record) each),
-    as the recognizer answers under its hold (a confident answer that looks unknown waits): known
+    """The operating point of the checkpoint's own open_set (its score, prototype_mean against its
+    class means or energy_mean, and per-step thresholds) on the test runs known and unknown
+    ((Rollout, record) each), as the recognizer answers under its hold (a confident answer that
+    looks unknown waits): known
     rejected, unknown flagged and known accuracy (an unknown answer wrong) of the episodes cut
     after 3, 6 and 9 views (max_views k) and at their end (`end`); `unheld`: at the end of the
     entropy stop without the hold."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
-    ks, us = (open_set.prototype_mean(r["states"], means) for r in (krec, urec))
+    ks, us = (open_set.running_mean(open_set.energy(r["logits"])) if entry.get("score") == "energy_mean"
+              else open_set.prototype_mean(r["states"], means) for r in (krec, urec))
     steps = ks.shape[1]
     thr = open_set.step_thresholds(entry["threshold"], steps)
     right = kro.probs.argmax(-1) == kro.labels[:, None]

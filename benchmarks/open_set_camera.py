@@ -45,12 +45,14 @@ OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or
 CUTS = (3, 6, 9)
 
 
-def cut(run, t, thresholds):
+def cut(run, t, thresholds, score="prototype_mean"):
     """(answered unknown, answered right) of a CameraRun cut after its t-th classified image,
-    against per-step thresholds; a run with no more images than t as it ended."""
+    against per-step thresholds on `score` (its views' prototypes, or energies for energy_mean);
+    a run with no more images than t as it ended."""
     if len(run.probs) <= t:
         return run.status == "unknown", run.right
-    flagged = float(np.mean(run.prototypes[:t])) > open_set.step_thresholds(thresholds, t)[-1]
+    views = run.energies if score == "energy_mean" else run.prototypes
+    flagged = float(np.mean(views[:t])) > open_set.step_thresholds(thresholds, t)[-1]
     return flagged, not flagged and int(np.argmax(run.probs[t - 1])) == run.label
 
 
@@ -82,7 +84,8 @@ def run(ap, args):
         groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]),
                          [test.classes[test.items[int(i)][1]] for i in objects])
         costs[group] = {k: round(v, digits) for (k, v), digits in zip(robot_cost(runs).items(), (3, 1, 2, 2))}
-        cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"]) for r in runs]) for t in CUTS}
+        cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"], model.open_set["score"]) for r in runs])
+                       for t in CUTS}
     (ks, kr, kscore, _), (us, _, uscore, _) = groups["known"], groups["unknown"]
     seen = np.isfinite(kscore), np.isfinite(uscore)
     record = {"camera": args.camera, "checkpoint": path.name, "planner": core.planner, "unknowns": args.unknowns,

@@ -174,7 +174,8 @@ def test_shipping_the_validation_choice_records_it_for_the_nodes_auto(tmp_path):
 
 def test_a_camera_run_cut_short_answers_as_a_robot_allowed_that_many_images_would():
     """open_set_camera's cut: after t images the answer then, `unknown` where the running
-    prototype score is above that step's threshold; a run that ended sooner as it ended."""
+    prototype score (or energy, for energy_mean) is above that step's threshold; a run that ended
+    sooner as it ended."""
     from conftest import load_benchmark
 
     osc = load_benchmark("open_set_camera")
@@ -188,3 +189,8 @@ def test_a_camera_run_cut_short_answers_as_a_robot_allowed_that_many_images_woul
     ended = CameraRun("unknown", 2, False, 0.8, [one_hot(2)], [], [-1.0], [0.8])
     assert osc.cut(ended, 3, [0.5]) == (True, False)
     assert osc.cut(CameraRun("no_object", 1, False, float("nan"), [], [], [], []), 3, [0.5]) == (False, False)
+    energetic = CameraRun("recognized", 2, True, -2.0, [one_hot(0), one_hot(2), one_hot(2)], [], [-1.0, -3.0, -3.0],
+                          [0.9, 0.1, 0.1])  # energy_mean: the energies decide, the prototypes do not
+    assert osc.cut(energetic, 1, [-1.5, -2.5], "energy_mean") == (True, False)  # -1.0 above -1.5
+    assert osc.cut(energetic, 2, [-1.5, -1.5], "energy_mean") == (False, True)  # mean -2.0 within -1.5
+    assert osc.cut(energetic, 2, [-1.5, -2.5], "energy_mean") == (True, False)  # mean -2.0 above -2.5

@@ -417,10 +417,12 @@ def test_open_set_fit_on_energy_mean_holds_thresholds_of_the_val_energies(datase
         open_set_fit.fit(path, "procedural", objects=20, steps=3, val_objects=10, score="msp")
 
 
-def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
+@pytest.mark.parametrize("score, top", [("prototype_mean", 2.0), ("energy_mean", 0.0)])
+def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys, score, top):
     """A checkpoint with its own open_set: the last JSON line also holds `stored`; at the largest
-    threshold (2: 1 - a cosine never exceeds it) nothing is rejected and the known accuracy is
-    the closed-set one."""
+    threshold (2: 1 - a cosine never exceeds it; 0 for an energy, -log sum exp of a trained
+    model's logits, where every prototype score would be above it) nothing is rejected and the
+    known accuracy is the closed-set one."""
     import json
 
     from conftest import load_benchmark
@@ -429,14 +431,14 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys):
 
     model = checkpoint.load_model(checkpoint.shipped("procedural"))[0]
     means = torch.rand(3, model.config.num_classes, model.config.state_size, generator=torch.Generator().manual_seed(0))
-    open_set_fit.store(checkpoint.shipped("procedural"), {"score": "prototype_mean", "means": means,
-                                                          "threshold": 2.0, "fitted_on": {}}, tmp_path / "s.pt")
+    open_set_fit.store(checkpoint.shipped("procedural"), {"score": score, "means": means,
+                                                          "threshold": top, "fitted_on": {}}, tmp_path / "s.pt")
     out = tmp_path / "open_set.json"
     load_benchmark("open_set").main(["--dataset", "procedural", "--checkpoint", str(tmp_path / "s.pt"),
                                      "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     stored, record = last["stored"], json.loads(out.read_text())
-    assert set(stored["known_rejected"]) == {"3", "end", "unheld"} and stored["threshold"] == [2.0] * 3
+    assert set(stored["known_rejected"]) == {"3", "end", "unheld"} and stored["threshold"] == [top] * 3
     assert all(v == 0 for key in ("known_rejected", "unknown_flagged") for v in stored[key].values())
     # nothing above it: the hold never holds, so each episode answers at its entropy stop
     assert stored["known_accuracy"]["3"] == stored["known_accuracy"]["end"] == stored["known_accuracy"]["unheld"]
