@@ -118,8 +118,9 @@ class Episode:
     # read each image's mirror image too (readout mean+mirror); None: as reads_mirror(model) says.
     # False where nobody reads the answers (training's episodes that only collect states)
     mirror: bool | None = None
-    # doubt(episode) -> (B,) bool, after each step's state: where True a confident answer does not
-    # stop the object (the recognizer's open-set hold: it looks unknown; max_views still stops it)
+    # doubt(episode, logits) -> (B,) bool, after each step's state and logits: where True a
+    # confident answer does not stop the object (the recognizer's open-set hold: it looks
+    # unknown; max_views still stops it)
     doubt: Callable | None = None
     _state: State | None = field(default=None, init=False, repr=False)
 
@@ -201,7 +202,7 @@ class Episode:
         s.entropies.append(h.detach())
         stop = h.detach() < self.config.entropy_threshold
         if self.doubt is not None:
-            stop = stop & ~torch.as_tensor(self.doubt(self), dtype=torch.bool, device=stop.device)
+            stop = stop & ~torch.as_tensor(self.doubt(self, logits), dtype=torch.bool, device=stop.device)
         stop = stop | (self.steps >= self.config.max_views)
         s.stopped_at = torch.where(stop & ~s.done, self.steps, s.stopped_at)
         s.done = s.done | stop

@@ -182,7 +182,10 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
 
 def store(path, entry, out=None):
     """Write the checkpoint at `path` with `entry` as its open_set to `out` (default: `path`
-    itself), atomically; the result loads as any checkpoint (checkpoint.read checks it)."""
+    itself), atomically, the entry checked first (nothing is written for a bad one); the result
+    loads as any checkpoint (checkpoint.read checks it)."""
+    model = checkpoint.load_model(path)[0]
+    checkpoint.checked_open_set(entry, model.config.num_classes, model.config.state_size)
     checkpoint.update(path, out, open_set=entry)
     checkpoint.load_model(out or path)  # refuse now what the recognizer would refuse
 

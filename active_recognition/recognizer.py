@@ -88,7 +88,9 @@ class SensingConfig:
         "for each number of views (none where it carries no open_set: python -m "
         "active_recognition.open_set_fit), 0 = never; either this or unknown_energy suffices"))
     hold_unknown: bool = option(True, help=(
-        "while the mean unknown score is above the unknown threshold, a confident answer does "
+        "while the views' mean score is above the unknown threshold (the checkpoint's own score, "
+        "prototype_mean or energy_mean; prototype_mean where unknown_threshold is above 0; never "
+        "unknown_energy), a confident answer does "
         "not end the episode: the object that looks like none of the classes is looked at until "
         "it looks like one, or for max_views"))
 
@@ -266,7 +268,6 @@ class ActiveRecognizer:
             view = torch.tensor([seen.view], dtype=torch.float32)
             step = self.episode.step(torch.from_numpy(seen.depth)[None], view=view)
         probs = step.probs[0].numpy()
-        self.energies.append(float(energy(step.logits[0].numpy())))
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
             self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
@@ -275,10 +276,11 @@ class ActiveRecognizer:
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
                            done, self.episode.steps, seen.view, seen.object_fraction)
 
-    def doubt(self, episode):
-        """The episode's hook after each step's state (Episode.doubt): scores the view (its
-        prototype score against its step's class means, where the checkpoint carries them) and
-        says whether a confident answer must wait (sensing.hold_unknown, while it looks unknown)."""
+    def doubt(self, episode, logits):
+        """The episode's hook after each step's state (Episode.doubt): scores the view (its energy,
+        and its prototype score against its step's class means where the checkpoint carries them)
+        and says whether a confident answer must wait (sensing.hold_unknown, while it looks unknown)."""
+        self.energies.append(float(energy(logits[0].detach().cpu().numpy())))
         if self.model.open_set is not None:
             self.prototypes.append(float(prototype_at(episode.hidden[:1].detach().cpu().numpy(),
                                                       self.model.open_set["means"].numpy(), episode.steps - 1)[0]))
@@ -286,9 +288,8 @@ class ActiveRecognizer:
 
     def unknown(self):
         """Whether the evidence so far says the object is of none of the classes: the mean energy
-        of its views above sensing.unknown_energy (never where that is 0), or their mean prototype
-        score above sensing.unknown_threshold (-1: the checkpoint's; never where that is 0 or the
-        checkpoint carries no class means)."""
+        of its views above sensing.unknown_energy (never where that is 0), or looks_unknown (the
+        checkpoint's own score and thresholds, or prototype_mean above sensing.unknown_threshold)."""
         threshold = self.sensing.unknown_energy
         if threshold != 0 and self.energies and float(np.mean(self.energies)) > threshold:
             return True

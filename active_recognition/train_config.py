@@ -154,6 +154,13 @@ class TrainConfig:
         if self.outliers and self.joint_epochs and self.policy != "imitation":
             raise InputError(f"outliers: the joint stage's outlier episodes are imitation's (random "
                              f"candidate views), not policy {self.policy}'s: use policy imitation or outliers 0")
+        if self.real_outliers_root and not self.real_outliers:
+            raise InputError("real_outliers_root names the real unknowns' folder for real_outliers, which is 0: "
+                             "set real_outliers (a share of each batch's outliers) or leave the root out")
+        if self.real_outliers and self.dataset not in ("modelnet", "procedural"):
+            raise InputError(f"real_outliers: the real unknowns are of no ModelNet10 class, not of no {self.dataset} "
+                             f"class (some are shelves and cabinets): use them with dataset modelnet or procedural "
+                             f"(ModelNet10's ten classes)")
         if self.real_outliers and not (self.outliers and self.real_outliers_root):
             raise InputError("real_outliers: needs outliers above 0 and real_outliers_root, the folder "
                              "tools/fetch_real_unknowns.py rebuilt the real unknowns in")

@@ -192,7 +192,8 @@ def print_tables(record, steps):
                      (f"the same with {record.get('compared', {}).get('planner')} views",
                       record.get("compared", {}).get("stored"))):
         if st is not None:
-            print(f"{name} (prototype_mean above {st['threshold']} by views): known rejected / unknown "
+            score = st.get("fitted_on", {}).get("score", "prototype_mean")
+            print(f"{name} ({score} above {st['threshold']} by views): known rejected / unknown "
                   f"flagged / known accuracy, cut after " + ", ".join(
                       f"{k}: {st['known_rejected'][k]:.3f} / {st['unknown_flagged'][k]:.3f} / "
                       f"{st['known_accuracy'][k]:.3f}" for k in st["known_rejected"]))

@@ -16,7 +16,8 @@ furniture-like (`near`) ones also alone; each kept within 0.3 to 3 m (camera_epi
 Prints, and writes to docs/results/modelnet10/open_set_camera.json (open_set_camera_real.json
 for real unknowns; a partial run must give --out), the share of each
 group answered `unknown`, the other statuses, the known accuracy (an `unknown` answer wrong),
-and the AUROC and FPR@95 of the running prototype score at each episode's end; and the first
+and the AUROC and FPR@95 of the checkpoint's own running score (prototype_mean, or energy_mean
+where its open_set says so) at each episode's end; and the first
 three as a robot allowed 3, 6 or 9 classified images would have them (`cut`: the answer after
 that image, `unknown` where the running score is above that step's threshold; an episode that
 ended sooner as it ended). Last line is JSON.

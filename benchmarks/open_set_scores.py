@@ -124,15 +124,21 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=0)
     add_unknowns_flags(ap)
     ap.set_defaults(unknowns="real_unknowns")  # real meshes: a figure on generated ones is never the headline
+    for action in ap._actions:
+        if action.dest in ("unknowns", "unknowns_root"):
+            action.help += (" (here the default is real_unknowns, which needs --unknowns-root)"
+                            if action.dest == "unknowns" else "")
     ap.add_argument("--out", default=None, help="the JSON to write (default: the committed one)")
     args = ap.parse_args(argv)
     partial = [f for f, on in (("--checkpoint", args.checkpoint != "modelnet10.pt"),
                                ("--objects", args.objects != FIT_OBJECTS), ("--val-objects", args.val_objects),
                                ("--camera", args.camera != "realsense"), ("--seed", args.seed),
                                ("--unknowns", args.unknowns != "real_unknowns")) if on]
+    if args.objects < 10:
+        ap.error(f"--objects must be at least 10 (a training object of each class), got {args.objects}")
+    if args.val_objects < 0:
+        ap.error(f"--val-objects must be 0 (all) or more, got {args.val_objects}")
     out = output(ap, args.out, results_dir("modelnet") / "open_set_scores.json", partial)
-    if args.objects < 10 or args.val_objects < 0:
-        ap.error("--objects must be at least 10 (a training object of each class), --val-objects 0 or more")
     with one_line_errors(ap):
         path = checkpoint.model_path(args.checkpoint, "modelnet")
         core = recording_core(path, "auto", STEPS, args.seed)

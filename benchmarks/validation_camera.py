@@ -14,8 +14,9 @@ the paired difference of that mean from the checkpoint's default planner (or --r
 which runs beside them (the committed run's was learned), with its standard error, and the AUROC of prototype_mean,
 energy_mean and msp_mean after 1, 3, 6 and 10 views.
 `rule` names the default the validation split supports: of the planners whose mean is within
-one paired standard error of the best's, the one whose prototype_mean (the node's `unknown`
-score) tells the val unknowns best after 10 views. (Stated before the first run, 2026-12-02:
+one paired standard error of the best's, the one whose running score of the node's `unknown`
+answer (the checkpoint's open_set score: prototype_mean, or energy_mean) tells the val unknowns
+best after 10 views. (Stated before the first run, 2026-12-02:
 the default, learned, stays unless the best leads it by more than one paired standard error;
 the tie-break by AUROC was added after learned and imitation tied on accuracy.) Writes
 docs/results/modelnet10/validation_camera.json (a partial run must give --out); last line JSON.
@@ -133,15 +134,15 @@ def score_rows(runs, near=None):
     return rows
 
 
-def rule(rows, right):
+def rule(rows, right, score="prototype_mean"):
     """The planner the stated rule names: of those whose mean accuracy is within one paired
-    standard error of the best's, the one whose prototype_mean tells the val unknowns best after
-    10 views (the node's score; energy_mean for a checkpoint without class means). -> (planner,
-    the planners tied with the best)."""
+    standard error of the best's, the one whose `score` (the node's: the checkpoint's open_set
+    score; energy_mean for a checkpoint without class means) tells the val unknowns best after 10
+    views. -> (planner, the planners tied with the best)."""
     best = max(rows, key=lambda p: rows[p]["mean"])
     lead = {p: paired(right, best, p) for p in rows if p != best}  # (best's lead, its s.e.)
     tied = [p for p in rows if p == best or lead[p][0] <= lead[p][1]]
-    name = "prototype_mean" if all("prototype_mean" in rows[p]["auroc"] for p in tied) else "energy_mean"
+    name = score if all(score in rows[p]["auroc"] for p in tied) else "energy_mean"
     return max(tied, key=lambda p: rows[p]["auroc"][name][-1]), tied
 
 
@@ -204,7 +205,7 @@ def run(ap, args):
             round(v, 4) for v in paired(right, planner, default))
         print(f"{planner} - {default}: {100 * rows[planner]['minus_default']:+.2f} points, paired s.e. "
               f"{100 * rows[planner]['minus_default_se']:.2f}")
-    chosen, tied = rule(rows, right)
+    chosen, tied = rule(rows, right, model.open_set["score"] if model.open_set is not None else "prototype_mean")
     record = {"camera": args.camera, "checkpoint": path.name, "unknowns": args.unknowns,
               "default": default, "starts": args.starts,
               "seed": args.seed, "known_objects": nk, "unknown_objects": nu, "planners": rows,

@@ -138,6 +138,9 @@ def test_validation_through_the_camera_scores_answers_by_views_and_keeps_a_defau
     energy = {p: {"mean": float(r.mean()), "auroc": {"energy_mean": [0.5, a]}}
               for (p, r), a in zip(close.items(), (0.9, 0.8))}
     assert vc.rule(energy, close)[0] == "learned"
+    both = {p: {"mean": float(r.mean()), "auroc": {"prototype_mean": [0.5, a], "energy_mean": [0.5, b]}}
+            for (p, r), a, b in zip(close.items(), (0.9, 0.8), (0.8, 0.9))}
+    assert vc.rule(both, close)[0] == "learned" and vc.rule(both, close, "energy_mean")[0] == "imitation"
     # --scores: a row an episode, per view its answer and scores, blank past its views
     table = vc.score_rows({"known": [runs], "unknown": odd}, near=np.array([True, False]))
     head = table[0]

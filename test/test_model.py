@@ -110,7 +110,8 @@ def test_a_doubt_holds_a_confident_answer_until_it_clears_or_the_step_limit():
     waits; the step limit still ends the episode."""
     seen = []
 
-    def doubt(episode):
+    def doubt(episode, logits):
+        assert torch.allclose(logits, torch.tensor([[12.0, 0.0, 0.0, 0.0]]))  # the step's own: the bias alone
         seen.append(episode.steps)
         return torch.tensor([episode.steps < 3])  # in doubt for the first two views
     ep = Episode(confident_model(12.0), EpisodeConfig(max_views=10, entropy_threshold=0.1), doubt=doubt)
@@ -118,7 +119,7 @@ def test_a_doubt_holds_a_confident_answer_until_it_clears_or_the_step_limit():
     dones = [bool(ep.step(torch.full((64, 64), 255.0)).done) for _ in range(3)]
     assert dones == [False, False, True] and ep.stopped_at.item() == 3 and seen == [1, 2, 3]
     ep = Episode(confident_model(12.0), EpisodeConfig(max_views=2, entropy_threshold=0.1),
-                 doubt=lambda episode: torch.tensor([True]))
+                 doubt=lambda episode, logits: torch.tensor([True]))
     ep.reset([1.0, 0.5])
     assert [bool(ep.step(torch.full((64, 64), 255.0)).done) for _ in range(2)] == [False, True]
 

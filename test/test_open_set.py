@@ -348,6 +348,15 @@ def test_an_energy_mean_open_set_reads_the_views_energies(tmp_path):
         assert core.open_set_scores() is (core.energies if name != "override" else core.prototypes)
     assert ends["below"].status == "unknown" and ends["below"].label == obs.label  # its energy is above
     assert ends["above"].status == "recognized" and ends["override"].status == "recognized"
+    # the hold reads each view's energy as it is taken: every answer confident (entropy 5), an energy
+    # threshold below any energy holds from the first view to max_views; one above any ends at once
+    held = {}
+    for name, threshold in (("held", -1000.0), ("free", 1000.0)):
+        core = stored_recognizer(tmp_path, f"h{name}", means, threshold, SensingConfig(), score="energy_mean",
+                                 entropy_threshold=5.0)
+        held[name] = episode_states(core, sim)[0]
+    assert held["held"].status == "unknown" and held["held"].views == 10
+    assert held["free"].status == "recognized" and held["free"].views == 1
 
 
 def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_path, dataset_cache, monkeypatch):

@@ -94,6 +94,8 @@ def test_real_outliers_take_their_share_from_the_train_split_alone(tmp_path):
     assert len(b.outliers.cameras) == 4 and b.outliers.depth.shape[0] == 4 * TINY["views_per_shape"]
     assert len(o.real._cams) == 2  # two real meshes drawn for the batch
     for bad, match in ((dict(real_outliers=0.5), "real_outliers_root"),
+                       (dict(real_outliers_root=str(root)), "real_outliers, which is 0"),
+                       (dict(real_outliers=0.5, real_outliers_root=str(root), dataset="twins"), "no twins class"),
                        (dict(real_outliers=0.6, near_outliers=0.6, real_outliers_root=str(root)), "at most 1")):
         with pytest.raises(InputError, match=match):
             TrainConfig(**TINY, outliers=0.5, **bad, out=str(tmp_path / "x"))

@@ -85,8 +85,7 @@ def real_unknowns(root, split="test", cache_dir=None):
     if split not in SPLITS:
         raise InputError(f"split of real_unknowns must be one of {', '.join(SPLITS)}, got {split!r}")
     if root is None or str(root) == "":
-        raise InputError(f"the real_unknowns dataset needs its root folder (--root DIR), where {FETCH} rebuilds "
-                         f"the meshes")
+        raise InputError(f"the real_unknowns dataset needs its root folder, where {FETCH} rebuilds the meshes")
     if not Path(root).is_dir():
         raise InputError(f"real_unknowns root {root}: no such directory; rebuild the meshes with {FETCH}")
     base = Path(root) / split
@@ -94,5 +93,7 @@ def real_unknowns(root, split="test", cache_dir=None):
         raise InputError(f"real_unknowns root {root} has no {split}/ folder; rebuild the meshes with {FETCH}")
     classes = sorted(p.name for p in base.iterdir() if p.is_dir())
     items = [(p, label) for label, c in enumerate(classes) for p in sorted((base / c).glob("*.ply"))]
+    if not items:
+        raise InputError(f"real_unknowns root {root}: no mesh under {base}/<class>/*.ply; rebuild them with {FETCH}")
     return ShapeDataset("real_unknowns", classes, split, items, cache_dir=cache_dir, unit=1.0,
                         layout=f"real_unknowns root {root} ({base}/<class>/*.ply; rebuilt by {FETCH})")
