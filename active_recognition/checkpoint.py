@@ -165,12 +165,11 @@ def checked_open_set(entry, num_classes, state_size):
     steps = threshold.tolist() if torch.is_tensor(threshold) and threshold.ndim == 1 else (
         list(threshold) if isinstance(threshold, (list, tuple)) else [threshold])
     if entry["score"] == "energy_mean":
-        if not steps or any(type(t) not in (int, float) or not math.isfinite(t) for t in steps):
-            raise InputError(f"open_set threshold of energy_mean must be a finite number or one per step, "
-                             f"got {threshold!r}")
-    elif not steps or any(type(t) not in (int, float) or not 0 < t <= 2 for t in steps):
-        raise InputError(f"open_set threshold must be a number in (0, 2] (1 - a cosine) or one per step, "
-                         f"got {threshold!r}")
+        valid, what = math.isfinite, "of energy_mean must be a finite number"
+    else:
+        valid, what = (lambda t: 0 < t <= 2), "must be a number in (0, 2] (1 - a cosine)"
+    if not steps or any(type(t) not in (int, float) or not valid(t) for t in steps):
+        raise InputError(f"open_set threshold {what} or one per step, got {threshold!r}")
     if not isinstance(entry.get("fitted_on", {}), dict):
         raise InputError("open_set fitted_on must be a dict")
     return {**entry, "means": means.float(), "threshold": [float(t) for t in steps]}

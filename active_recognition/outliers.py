@@ -62,7 +62,7 @@ class Outliers:
                  real_root=None):
         ds = open_dataset("unknowns", split="train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
         self.shapes, self.augment, self.limits = Shapes(ds, camera), augment, limits
-        self.weight, self.batch, self.k = weight, min(batch, len(ds)), views_per_shape
+        self.weight, self.k = weight, views_per_shape
         self.near, self.near_batch, self.real, self.real_batch = None, 0, None, 0
         if near > 0:  # a share of each batch from the near unknowns (datasets/near.py)
             nds = near_unknowns("train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
@@ -70,8 +70,7 @@ class Outliers:
         if real > 0:  # a share from real meshes of other classes (the real unknowns' train split)
             rds = open_dataset("real_unknowns", real_root, "train", cache_dir=default_cache_dir())  # never empty
             self.real, self.real_batch = Shapes(rds, camera), min(len(rds), max(1, round(real * batch)))
-        if near > 0 or real > 0:
-            self.batch = min(len(ds), max(0, batch - self.near_batch - self.real_batch))
+        self.batch = min(len(ds), max(0, batch - self.near_batch - self.real_batch))  # the generated ones
 
     def inputs(self, key, stage, starts):
         """The outliers of the batch keyed `key` (the known batch's generator key) in `stage`."""

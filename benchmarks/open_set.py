@@ -36,7 +36,7 @@ from active_recognition import checkpoint, open_set
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.evaluate import EvalConfig, checkpoint_split, sample_episodes
-from active_recognition.open_set_fit import episodes, node_planner
+from active_recognition.open_set_fit import episodes, node_planner, running
 from active_recognition.options import add_flags
 from active_recognition.reach import ViewLimits
 from active_recognition.report import write_json
@@ -60,8 +60,7 @@ def stored_point(entry, known, unknown, entropy_threshold):
     entropy stop without the hold."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
-    ks, us = (open_set.running_mean(open_set.energy(r["logits"])) if entry.get("score") == "energy_mean"
-              else open_set.prototype_mean(r["states"], means) for r in (krec, urec))
+    ks, us = (running(entry["score"], r["states"], r["logits"], means) for r in (krec, urec))
     steps = ks.shape[1]
     thr = open_set.step_thresholds(entry["threshold"], steps)
     right = kro.probs.argmax(-1) == kro.labels[:, None]
