@@ -39,9 +39,15 @@ def read_metrics(path):
         return list(csv.DictReader(f))
 
 
+def scored(rows, column="acc_3"):
+    """The joint-stage rows that hold a figure for `column` (a run with eval_every > 1 scores
+    only every few epochs; the others are blank)."""
+    return [r for r in rows if r["stage"] == "joint" and r.get(column) not in (None, "")]
+
+
 def time_to_reach(rows, target, column="acc_3"):
     """Joint-stage wall-clock seconds at which `column` first reaches `target` (None if never)."""
-    joint = [r for r in rows if r["stage"] == "joint" and r.get(column) not in (None, "")]
+    joint = scored(rows, column)
     if not joint:
         return None
     t0 = time_offset(rows)
@@ -59,10 +65,11 @@ def time_offset(rows):
 
 def load_run_metrics(path, column="acc_3"):
     """The rows of a run's metrics.csv, for training_time; InputError naming the file unless every
-    row has a number for wall_s and the joint-stage rows one for `column` too."""
+    row has a number for wall_s and some joint-stage rows one for `column` too (the others blank:
+    epochs the run did not score)."""
     rows = list(csv.DictReader(io.StringIO(read_text(path, "metrics"))))
     try:
-        joint = [r for r in rows if r["stage"] == "joint"]
+        joint = scored(rows, column)
         ok = joint and all(np.isfinite([float(r["wall_s"]) for r in rows]
                                        + [float(r[column]) for r in joint]))
     except (KeyError, TypeError, ValueError):
@@ -85,17 +92,17 @@ def load_run_pair(learned, reinforce, column="acc_3"):
 
 def training_time(learned_rows, reinforce_rows, path=None, column="acc_3"):
     """Accuracy vs joint-stage wall-clock for both; the time ratio to reinforce's best accuracy."""
-    best = max(float(r[column]) for r in reinforce_rows if r["stage"] == "joint")
+    best = max(float(r[column]) for r in scored(reinforce_rows, column))
     t_learned, t_rf = time_to_reach(learned_rows, best, column), time_to_reach(reinforce_rows, best, column)
     ratio = None if t_learned is None or not t_rf else t_learned / t_rf
-    best_learned = max(float(r[column]) for r in learned_rows if r["stage"] == "joint")
+    best_learned = max(float(r[column]) for r in scored(learned_rows, column))
     reverse = time_to_reach(reinforce_rows, best_learned, column)
     if path is not None:
         pyplot = plt()
         fig, ax = pyplot.subplots(figsize=(5.5, 4))
         for name, rows in (("learned (end to end)", learned_rows), ("reinforce", reinforce_rows)):
             t0 = time_offset(rows)
-            joint = [r for r in rows if r["stage"] == "joint"]
+            joint = scored(rows, column)
             ax.plot([(float(r["wall_s"]) - t0) / 60 for r in joint],
                     [100 * float(r[column]) for r in joint], marker="o", ms=3, label=name)
         ax.axhline(100 * best, color="grey", lw=0.8, ls="--")

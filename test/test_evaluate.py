@@ -119,6 +119,19 @@ def test_training_time_ratio_from_metrics():
     assert t["ratio"] == 0.25
 
 
+def test_training_time_reads_a_run_scored_every_few_epochs(tmp_path):
+    """eval_every > 1 leaves the unscored epochs blank: they are skipped, not read as numbers."""
+    from active_recognition.run_metrics import load_run_metrics
+    text = ("stage,epoch,wall_s,acc_3\npretrain,1,100,\njoint,1,110,\njoint,2,120,0.80\n"
+            "joint,3,130,\njoint,4,140,0.90\n")
+    (tmp_path / "every2.csv").write_text(text)
+    learned = load_run_metrics(tmp_path / "every2.csv")
+    rf = [{"stage": "joint", "wall_s": "20", "acc_3": ""}, {"stage": "joint", "wall_s": "80", "acc_3": "0.85"}]
+    t = training_time(learned, rf)
+    assert t["reinforce_best"] == 0.85 and t["learned_best"] == 0.90
+    assert t["learned_s"] == 40 and t["reinforce_s"] == 80 and t["ratio"] == 0.5  # first scored >= 0.85: epoch 4
+
+
 def test_unknown_planner_and_missing_reinforce_model_are_refused(tmp_path):
     with pytest.raises(InputError, match=r"planners\[0\] must be one of learned, .*'psychic'"):
         evaluate(EvalConfig(planners=("psychic",)))
@@ -147,6 +160,7 @@ def test_a_metrics_file_without_joint_rows_is_refused_by_name(tmp_path):
     for name, text in {"no_joint.csv": "stage,epoch,wall_s,acc_3\npretrain,1,5.0,\n",
                        "no_acc.csv": "stage,epoch,wall_s\njoint,1,9.5\n",
                        "nan.csv": "stage,epoch,wall_s,acc_3\njoint,1,nan,0.7\n",
+                       "unscored.csv": "stage,epoch,wall_s,acc_3\njoint,1,9.5,\n",
                        "empty.csv": ""}.items():
         (tmp_path / name).write_text(text)
         with pytest.raises(InputError, match=f"metrics .*{name}: not a training run's metrics"):
