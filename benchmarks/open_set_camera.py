@@ -95,6 +95,7 @@ def run(ap, args):
               "unknown_flagged": round(float(np.mean(np.array(us) == "unknown")), 4),
               "known_accuracy": round(float(np.mean(kr)), 4),
               "statuses": {g: dict(Counter(groups[g][0])) for g in groups},
+              "score": model.open_set["score"],  # the checkpoint's own, the AUROCs' and the cut's
               "auroc": round(open_set.auroc(kscore[seen[0]], uscore[seen[1]]), 4),
               "fpr95": round(open_set.fpr_at(kscore[seen[0]], uscore[seen[1]]), 4),
               "cut": {name: {str(t): round(float(cuts[g][t][:, col].mean()), 4) for t in CUTS}

@@ -69,5 +69,6 @@ def real_unknowns(results):
     return {"known": d["objects"]["known"], "unknown": d["objects"]["unknown"],
             "flagged": pct(d["unknown_flagged"]), "rejected": pct(d["known_rejected"]),
             "accuracy": pct(d["known_accuracy"]), "auroc": f"{d['auroc']:.3f}",
+            "score": d.get("score", "prototype_mean"),
             "near": near.get("objects", 0), "near_flagged": pct(near.get("unknown_flagged", 0.0)),
             "near_auroc": f"{near.get('auroc', float('nan')):.3f}"}
