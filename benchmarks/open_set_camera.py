@@ -127,7 +127,8 @@ def main(argv=None):
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
     add_unknowns_flags(ap)
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
-                    "docs/results/modelnet10/open_set_camera.json; a partial run must give it)")
+                    "docs/results/modelnet10/open_set_camera.json, open_set_camera_real.json with "
+                    "--unknowns real_unknowns; a partial run must give it)")
     args = ap.parse_args(argv)
     with one_line_errors(ap):
         run(ap, args)
