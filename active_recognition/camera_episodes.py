@@ -84,10 +84,10 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
                 probs.append(obs.probs)
                 states.append(core.episode.hidden[0].detach().cpu().numpy().copy())
         label = ds.items[int(i)][1]
-        truth = ds.classes[label]
+        truth, scores = ds.classes[label], core.open_set_scores()
         runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
                               obs is not None and obs.status == "recognized" and obs.label == truth,
-                              float(np.mean(core.open_set_scores())) if core.open_set_scores() else float("nan"),
+                              float(np.mean(scores)) if scores else float("nan"),
                               probs, states, list(core.energies), list(core.prototypes), core.views_taken()))
     return runs
 

@@ -299,7 +299,7 @@ class ActiveRecognizer:
         """Whether the mean score of the views so far (open_set_scores) is above the threshold in
         force at this step."""
         scores = self.open_set_scores()
-        return scores != [] and float(np.mean(scores)) > self.prototype_threshold()
+        return scores != [] and float(np.mean(scores)) > self.open_set_threshold()
 
     def open_set_scores(self):
         """The per-view scores the unknown answer reads: their energies where the checkpoint's
@@ -307,7 +307,7 @@ class ActiveRecognizer:
         own = self.sensing.unknown_threshold < 0 and self.model.open_set is not None
         return self.energies if own and self.model.open_set["score"] == "energy_mean" else self.prototypes
 
-    def prototype_threshold(self):
+    def open_set_threshold(self):
         """The threshold in force after the views scored so far (inf: none): the checkpoint's for
         that many views (on its own score), or the prototype_mean one sensing.unknown_threshold
         sets for all."""

@@ -32,11 +32,13 @@ def committed(path):
     return Path(path).resolve().is_relative_to(RESULTS.resolve())
 
 
-def add_unknowns_flags(ap):
-    """--unknowns (the objects of no known class: generated, or real meshes) and --unknowns-root."""
-    ap.add_argument("--unknowns", default="unknowns", choices=tuple(OPEN_SET),
+def add_unknowns_flags(ap, default="unknowns"):
+    """--unknowns (the objects of no known class: generated, or real meshes; `default` where a
+    benchmark's headline is another) and --unknowns-root."""
+    note = "" if default == "unknowns" else f" (here the default is {default}, which needs --unknowns-root)"
+    ap.add_argument("--unknowns", default=default, choices=tuple(OPEN_SET),
                     help="the unknown objects: generated (unknowns) or real meshes (real_unknowns, under "
-                    "--unknowns-root: tools/fetch_real_unknowns.py)")
+                    "--unknowns-root: tools/fetch_real_unknowns.py)" + note)
     ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
 
 

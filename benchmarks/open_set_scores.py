@@ -122,12 +122,7 @@ def main(argv=None):
     ap.add_argument("--val-objects", type=int, default=0, help="seeded sample of the val objects, each group (0: all)")
     ap.add_argument("--camera", default="realsense", choices=PRESETS, help="the simulated camera (default realsense)")
     ap.add_argument("--seed", type=int, default=0)
-    add_unknowns_flags(ap)
-    ap.set_defaults(unknowns="real_unknowns")  # real meshes: a figure on generated ones is never the headline
-    for action in ap._actions:
-        if action.dest in ("unknowns", "unknowns_root"):
-            action.help += (" (here the default is real_unknowns, which needs --unknowns-root)"
-                            if action.dest == "unknowns" else "")
+    add_unknowns_flags(ap, default="real_unknowns")  # real meshes: a figure on generated ones is never the headline
     ap.add_argument("--out", default=None, help="the JSON to write (default: the committed one)")
     args = ap.parse_args(argv)
     partial = [f for f, on in (("--checkpoint", args.checkpoint != "modelnet10.pt"),

@@ -278,7 +278,7 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
     # first view's 0.05 and at most the later ones' 2.0, so the hold waits one view, then it ends known
     core = stored_recognizer(tmp_path, "steps", away, [0.05, 2.0], SensingConfig(), entropy_threshold=5.0)
     stepped = episode_states(core, sim)[0]
-    assert core.prototype_threshold() == 2.0 and stepped.views == 2 and stepped.status == "recognized"
+    assert core.open_set_threshold() == 2.0 and stepped.views == 2 and stepped.status == "recognized"
 
 
 def test_held_stops_end_at_the_first_confident_step_that_looks_known():
