@@ -62,8 +62,9 @@ def shown_size(ds, i):
 
 def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=False):
     """A CameraRun per object of dataset `ds` (opened as `name`/`split`, under `root`) through
-    simulated camera `preset`, each from a seeded initial view among the recognizer's."""
-    sensor = sensor_config(preset)
+    simulated camera `preset` (a preset's name or a SensorConfig), each from a seeded initial view
+    among the recognizer's."""
+    sensor = sensor_config(preset) if isinstance(preset, str) else preset
     k = sensor.intrinsics()
     rng = np.random.default_rng(seed)
     runs = []

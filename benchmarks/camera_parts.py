@@ -8,7 +8,9 @@ of the node changed alone against the node's defaults with today's model.
 Parts (rows): the model (`--other-checkpoint`, e.g. an older modelnet10.pt; it answers
 `unknown` only if it carries an open_set), the `unknown` answer (off: unknown_threshold 0, no
 hold), the hold alone (hold_unknown false), the size prior (use_size false, as when object_size
-is a guess) and the planner (`--planners`). Prints per row the accuracy (an `unknown` answer
+is a guess) and the planner (`--planners`); with `--sensor-parts`, each of the camera's defects
+taken away alone (flying-pixel removal at steep edges, depth noise and millimetre steps, random
+holes, the arm's pose error, the floor). Prints per row the accuracy (an `unknown` answer
 wrong) with its standard error, its paired difference from the defaults' row with the paired
 standard error, the share answered `unknown`, the mean views, travel and robot seconds (robot_time
 defaults). Writes docs/results/modelnet10/camera_parts.json (a partial run must give --out); last
@@ -31,31 +33,43 @@ from active_recognition.node_params import RecognizerParameters
 from active_recognition.options import add_flags
 from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.report import write_json
-from active_recognition.simulated_camera import PRESETS
+from active_recognition.simulated_camera import PRESETS, sensor_config
 
 OBJECTS_DEFAULT = 0  # 0: the whole test split
 
 
+# the camera's defects, each taken away alone (--sensor-parts): row name -> SensorConfig changes
+SENSOR_PARTS = {"camera without edge dropout": {"edge_dropout": 0.0},
+                "camera without depth noise": {"noise": "none", "encoding": "32FC1"},
+                "camera without random holes": {"dropout": 0.0},
+                "camera without pose error": {"pose_error_deg": 0.0},
+                "camera without floor": {"floor": False}}
+
+
 def rows(args):
-    """(name, checkpoint path, planner, sensing changes) of each row; the first is the defaults'."""
+    """(name, checkpoint path, planner, sensing changes, sensor changes) of each row; the first
+    is the defaults'."""
     today = checkpoint.model_path(args.checkpoint, "modelnet")
-    out = [("defaults", today, "auto", {}),
-           ("no unknown answer", today, "auto", {"unknown_threshold": 0.0, "hold_unknown": False}),
-           ("no hold", today, "auto", {"hold_unknown": False}),
-           ("no size prior", today, "auto", {"use_size": False})]
+    out = [("defaults", today, "auto", {}, {}),
+           ("no unknown answer", today, "auto", {"unknown_threshold": 0.0, "hold_unknown": False}, {}),
+           ("no hold", today, "auto", {"hold_unknown": False}, {}),
+           ("no size prior", today, "auto", {"use_size": False}, {})]
     if args.other_checkpoint:
         other = Path(args.other_checkpoint)
-        out += [(f"model {other.name}", other, "auto", {}),
-                (f"model {other.name}, no size prior", other, "auto", {"use_size": False})]
-    out += [(f"planner {p}", today, p, {}) for p in args.planners]
+        out += [(f"model {other.name}", other, "auto", {}, {}),
+                (f"model {other.name}, no size prior", other, "auto", {"use_size": False}, {})]
+    out += [(f"planner {p}", today, p, {}, {}) for p in args.planners]
+    if args.sensor_parts:
+        out += [(name, today, "auto", {}, sensor) for name, sensor in SENSOR_PARTS.items()]
     return out
 
 
-def measure(path, planner, changes, test, objects, args):
+def measure(path, planner, changes, sensor, test, objects, args):
     node = RecognizerParameters()
     core = ActiveRecognizer(str(path), node.episode, args.seed, planner, replace(node.sensing, **changes),
                             node.limits)
-    runs = camera_runs(core, test, "modelnet", "test", objects, args.camera, args.seed, args.root)
+    camera = sensor_config(args.camera, **sensor)
+    runs = camera_runs(core, test, "modelnet", "test", objects, camera, args.seed, args.root)
     right = np.array([r.right for r in runs], dtype=float)
     return core.planner, right, {"unknown": float(np.mean([r.status == "unknown" for r in runs])), **robot_cost(runs)}
 
@@ -71,11 +85,12 @@ def run(ap, args):
     record = {"camera": args.camera, "objects": len(objects), "seed": args.seed,
               "episode": vars(RecognizerParameters().episode), "rows": {}}
     base = None
-    for name, path, planner, changes in rows(args):
-        planner, right, figures = measure(path, planner, changes, test, objects, args)
+    for name, path, planner, changes, sensor in rows(args):
+        planner, right, figures = measure(path, planner, changes, sensor, test, objects, args)
         base = right if base is None else base
         diff = right - base
         row = {"checkpoint": Path(path).name, "planner": planner, "changes": changes,
+               **({"camera_changes": sensor} if sensor else {}),
                "accuracy": round(float(right.mean()), 4),
                "accuracy_se": round(float(right.std(ddof=1) / np.sqrt(len(right))), 4),
                "minus_defaults": round(float(diff.mean()), 4),
@@ -98,6 +113,9 @@ def main(argv=None):
     ap.add_argument("--planners", nargs="*", default=[], help="planners to run beside the default")
     ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
                     help="ModelNet10 test objects (a seeded draw; default 0: every one)")
+    ap.add_argument("--sensor-parts", action="store_true", help=(
+        "add a row per defect of the camera taken away alone (edge dropout, depth noise, holes, "
+        "pose error, floor)"))
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/camera_parts.json; a partial run must give it)")

@@ -39,6 +39,24 @@ def test_recorded_runs_hold_each_images_answer_and_state(procedural_test):
     assert not np.allclose(states[0, 0], states[0, 1])  # one per image, not one copied
 
 
+def test_a_sensor_config_stands_for_its_preset_and_its_changes_reach_the_images(procedural_test):
+    """camera_runs takes a SensorConfig as well as a preset's name (camera_parts' rows of the
+    camera's defects): the preset's own config gives the same images, hence the same answers, and
+    a camera that loses half its pixels gives other ones."""
+    from active_recognition.simulated_camera import sensor_config
+
+    path = checkpoint.shipped("procedural")
+    core = ActiveRecognizer(path, EpisodeConfig(2, 0.0), sensing=SensingConfig(use_size=False))
+
+    def answers(camera):
+        runs = camera_runs(core, procedural_test, "procedural", "test", [2, 9], camera, seed=3, record=True)
+        return np.stack([np.stack(r.probs) for r in runs])
+
+    named = answers("virtual")
+    np.testing.assert_array_equal(answers(sensor_config("virtual")), named)
+    assert not np.allclose(answers(sensor_config("virtual", dropout=0.5)), named)
+
+
 def test_a_run_without_images_is_left_out_of_full_length(procedural_test):
     path = checkpoint.shipped("procedural")
     core = ActiveRecognizer(path, EpisodeConfig(2, 0.0), sensing=SensingConfig(use_size=False))
@@ -197,3 +215,27 @@ def test_a_camera_run_cut_short_answers_as_a_robot_allowed_that_many_images_woul
     assert osc.cut(energetic, 1, [-1.5, -2.5], "energy_mean") == (True, False)  # -1.0 above -1.5
     assert osc.cut(energetic, 2, [-1.5, -1.5], "energy_mean") == (False, True)  # mean -2.0 within -1.5
     assert osc.cut(energetic, 2, [-1.5, -2.5], "energy_mean") == (True, False)  # mean -2.0 above -2.5
+
+
+def test_camera_parts_rows_take_each_defect_of_the_camera_away_alone():
+    """--sensor-parts adds one row per defect of the RealSense preset: each row's changes are
+    SensorConfig fields, each undoes something the preset has (the row differs from the preset
+    in exactly the fields it names), and the rows run today's model with the node's own sensing."""
+    from dataclasses import asdict
+    from types import SimpleNamespace
+
+    from conftest import load_benchmark
+
+    from active_recognition.simulated_camera import sensor_config
+
+    parts = load_benchmark("camera_parts")
+    args = SimpleNamespace(checkpoint=None, other_checkpoint=None, planners=[], sensor_parts=True)
+    preset = asdict(sensor_config("realsense"))
+    rows = [r for r in parts.rows(args) if r[4]]
+    assert [r[0] for r in rows] == list(parts.SENSOR_PARTS)
+    for name, _, planner, changes, sensor in rows:
+        changed = asdict(sensor_config("realsense", **sensor))
+        assert {k for k in preset if preset[k] != changed[k]} == set(sensor), name
+        assert planner == "auto" and changes == {}
+    args.sensor_parts = False
+    assert not [r for r in parts.rows(args) if r[4]]
