@@ -41,6 +41,16 @@ CHECKPOINTS = {d: {"learned": f, "reinforce": f.replace(".pt", "_reinforce.pt"),
                for d, f in SHIPPED_FOR.items()}
 
 
+def refuse_unrecorded_default(ap, args, model):
+    """--ship on a ModelNet10 model that records no default planner ends here: the node's model
+    has its default chosen through a camera on val (validation_camera.py --ship), which the
+    renders' rule here must not overwrite (a fresh train or open_set_fit output records none)."""
+    if args.ship and args.dataset == "modelnet" and not checkpoint.read(model).get("default_planner"):
+        ap.error(f"{model} records no default planner: ModelNet10's is chosen through the camera on "
+                 f"val; record it first (python benchmarks/validation_camera.py --root DIR --ship), "
+                 f"then --ship here")
+
+
 def ship(path, s):
     """Record in a shipped model the planner 'auto' stands for, and the fixed path."""
     checkpoint.update(path, default_planner=s["default_planner"],
@@ -128,6 +138,7 @@ def run(ap, args):
             ap.error(f"{path}: no such model (train it with its config/train_*.yaml, or pass "
                      f"--checkpoint / --planner-checkpoint)")
         checkpoint.load_model(path)  # a file that is not a model: refused now, not after the validation run
+    refuse_unrecorded_default(ap, args, model)
     metrics = {k: getattr(args, f"{k}_metrics") or str(runs / f"{k}_metrics.csv")
                for k in ("learned", "reinforce")}
     for path in metrics.values():

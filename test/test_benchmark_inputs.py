@@ -170,3 +170,32 @@ def test_a_small_run_chooses_its_default_on_as_many_validation_objects(
     assert held < total or "fixed" not in planners
     assert seen[0].split == "val" and seen[0].planners == planners
     assert seen[0].objects == (min(objects, held) if objects else 0)
+
+
+def test_planners_ship_refuses_a_modelnet_model_that_records_no_default(tmp_path, capsys):
+    """ModelNet10's default planner is chosen through the camera (validation_camera.py --ship);
+    planners.py --ship must not overwrite it with its renders' rule when a fresh model records
+    none: it refuses, naming the file and the command that records it. A model that records one,
+    a run without --ship and another dataset's model go on."""
+    import argparse
+    from types import SimpleNamespace
+
+    import torch
+
+    from active_recognition import checkpoint
+
+    planners_py = load_benchmark("planners")
+    bare = tmp_path / "fresh.pt"
+    ckpt = checkpoint.read(checkpoint.shipped("procedural"))
+    ckpt.pop("default_planner", None)
+    torch.save(ckpt, bare)
+    ap = argparse.ArgumentParser(prog="planners.py")
+    with pytest.raises(SystemExit):
+        planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=True, dataset="modelnet"), str(bare))
+    err = capsys.readouterr().err
+    assert "fresh.pt records no default planner" in err and "validation_camera.py --root DIR --ship" in err
+    recorded = checkpoint.shipped("procedural")
+    assert checkpoint.read(recorded).get("default_planner")
+    planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=True, dataset="modelnet"), str(recorded))
+    planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=False, dataset="modelnet"), str(bare))
+    planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=True, dataset="procedural"), str(bare))
