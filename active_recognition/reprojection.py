@@ -64,19 +64,22 @@ def support_height(points, box_margin=0.1, bin_width=0.02):
     return height, max(bin_width, 4 * spread)
 
 
-def seen_centre(points, position, oblique=0.8):
+def seen_centre(points, position, oblique=0.8, stray=0.005):
     """The centre of the object's box, from the points one view saw of it, along the object's
     axes that the view sees the whole extent of.
 
     From a view off an axis the object's extremes along that axis lie on its silhouette or face
     the camera, so the middle of the seen points' extent is the box's centre along it. Along an
     axis within acos(`oblique`) of the line of sight the far side is hidden: that component stays
-    0. points (N, 3) and the camera position (3,), normalised object frame; returns (3,).
+    0. The extent leaves out the `stray` share of the points at each end: a few points of a far,
+    noisy floor left above the support's cut would otherwise stretch it to the box's edge.
+    points (N, 3) and the camera position (3,), normalised object frame; returns (3,).
     """
     d = np.asarray(position, dtype=np.float64)
     d = np.abs(d) / np.linalg.norm(d)
     points = np.asarray(points, dtype=np.float64)
-    return np.where(d < oblique, (points.min(0) + points.max(0)) / 2, 0.0)
+    lo, hi = np.quantile(points, [stray, 1 - stray], axis=0)
+    return np.where(d < oblique, (lo + hi) / 2, 0.0)
 
 
 RAYS_PER_PIXEL = 2  # at least so many rays of a large image across a model pixel (Frame)

@@ -22,8 +22,8 @@ from active_recognition.validation import InputError
 def fill_holes(z, fillable=None, iterations=4, agree=0.05):
     """Fill missing pixels (inf) that lie inside a surface: between two opposite neighbours whose
     depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
-    present (their median). Neither rule grows a silhouette: a pixel outside an edge, a corner or
-    a staircase has at most 2 direct neighbours. Only `fillable` pixels (default all) change."""
+    present and agreeing within `agree` x the nearest (their median). Neither rule grows a
+    silhouette nor bridges a depth jump. Only `fillable` pixels (default all) change."""
     z = z.copy()
     h, w = z.shape
     for _ in range(iterations):
@@ -39,7 +39,10 @@ def fill_holes(z, fillable=None, iterations=4, agree=0.05):
             gap = np.where(np.abs(a - b) <= agree * np.fmin(a, b), np.abs(a - b), np.inf)
         pair = holes & np.isfinite(gap).any(0)
         direct = nb[[0, 1, 4, 5]]
-        crowd = holes & ~pair & (np.isfinite(direct).sum(0) >= 3)
+        far = np.where(np.isnan(direct), -np.inf, direct).max(0)
+        near = np.where(np.isnan(direct), np.inf, direct).min(0)
+        agreeing = far <= (1 + agree) * near
+        crowd = holes & ~pair & (np.isfinite(direct).sum(0) >= 3) & agreeing
         if not (pair.any() or crowd.any()):
             break
         best = np.argmin(gap, 0)
