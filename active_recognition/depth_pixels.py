@@ -20,13 +20,15 @@ FILL_ITERATIONS = 4
 MAX_SPREAD = 32  # pixels
 
 
-def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
+def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05, across_jumps=False):
     """Fill missing pixels (inf) that lie inside a surface: between two opposite neighbours whose
     depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
     present and agreeing within `agree` x the nearest (their median). Neither rule grows a
     silhouette: a pixel outside an edge, a corner or a staircase has at most 2 direct neighbours;
     nor bridges a depth jump (an object before a floor): a median of both sides would put back,
-    mid-air, the flying pixel a camera's filter removed. Only `fillable` pixels (default all) change.
+    mid-air, the flying pixel a camera's filter removed. `across_jumps`: the median of 3 or 4
+    whatever their depths, for pixels no ray sampled (a sparse camera's), where a value between
+    two surfaces is nearer the truth than a hole. Only `fillable` pixels (default all) change.
     The first round looks only at holes either rule could fill (two opposite neighbours, or 3
     of the 4 direct ones, present), later rounds only at those beside a pixel the round before
     filled."""
@@ -60,7 +62,7 @@ def fill_holes(z, fillable=None, iterations=FILL_ITERATIONS, agree=0.05):
             agreeing = gap <= agree * np.fmin(a, b)
         pair = agreeing.any(0)
         direct = nb[[0, 1, 4, 5]]
-        one_surface = np.fmax.reduce(direct, 0) <= (1 + agree) * np.fmin.reduce(direct, 0)
+        one_surface = across_jumps | (np.fmax.reduce(direct, 0) <= (1 + agree) * np.fmin.reduce(direct, 0))
         crowd = (np.isnan(direct).sum(0) <= 1) & ~pair & one_surface
         done = pair | crowd
         if not done.any():

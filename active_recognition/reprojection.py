@@ -292,7 +292,7 @@ class Frame:
         found = float(np.isfinite(out).mean())
         missed = samples.reshape(out.shape) == 0
         if fill and missed.any():  # pixels no ray passed through: a camera farther off
-            out = fill_holes(out, missed)
+            out = fill_holes(out, missed, across_jumps=True)
         return Reprojection(normalise_depth(out, self.camera), kept.view, found, kept.support,
                             kept.points, kept.cut)
 

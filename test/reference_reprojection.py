@@ -19,7 +19,7 @@ from active_recognition.reprojection import Reprojection, support_height
 from active_recognition.validation import InputError
 
 
-def fill_holes(z, fillable=None, iterations=4, agree=0.05):
+def fill_holes(z, fillable=None, iterations=4, agree=0.05, across_jumps=False):
     """Fill missing pixels (inf) that lie inside a surface: between two opposite neighbours whose
     depths agree within `agree` x depth (their mean), or with 3 or 4 of the 4 direct neighbours
     present and agreeing within `agree` x the nearest (their median). Neither rule grows a
@@ -41,7 +41,7 @@ def fill_holes(z, fillable=None, iterations=4, agree=0.05):
         direct = nb[[0, 1, 4, 5]]
         far = np.where(np.isnan(direct), -np.inf, direct).max(0)
         near = np.where(np.isnan(direct), np.inf, direct).min(0)
-        agreeing = far <= (1 + agree) * near
+        agreeing = across_jumps | (far <= (1 + agree) * near)
         crowd = holes & ~pair & (np.isfinite(direct).sum(0) >= 3) & agreeing
         if not (pair.any() or crowd.any()):
             break
@@ -142,7 +142,7 @@ def reproject(metres, k: geometry.Intrinsics, position, optical_rotation, camera
     out = out.reshape(camera.height, camera.width)
     found = float(np.isfinite(out).mean())
     if fill:  # pixels no ray passed through: a camera farther off than the model's
-        out = fill_holes(out, samples.reshape(out.shape) == 0)
+        out = fill_holes(out, samples.reshape(out.shape) == 0, across_jumps=True)
     kept = keep.reshape(z.shape)
     cut = bool(kept[:, [0, -1]].any() or kept[[0, -1]].any())
     return Reprojection(normalise_depth(out, camera), (theta, phi), found, support, pts[keep], cut)

@@ -144,6 +144,10 @@ def test_fill_holes_does_not_bridge_a_depth_jump():
     np.testing.assert_array_equal(filled, reference.fill_holes(np.where(holes, np.inf, z)))
     on_a_surface = np.isin(filled, (2.0, 3.0)) | ~np.isfinite(filled)
     assert on_a_surface.all(), filled[~on_a_surface]  # nothing put back mid-air (2.5 before)
+    # pixels no ray sampled (a sparse camera's, in the model's image) take the median all the same
+    bridged = fill_holes(np.where(holes, np.inf, z), across_jumps=True)
+    assert np.isfinite(bridged).all() and (bridged == 2.5).any()
+    np.testing.assert_array_equal(bridged, reference.fill_holes(np.where(holes, np.inf, z), across_jumps=True))
     # the same holes where both sides are one surface (depths within agree) are all filled
     near = np.where(z == 3.0, 2.04, 2.0)
     refill = fill_holes(np.where(holes, np.inf, near))
