@@ -258,7 +258,7 @@ def test_seen_centre_is_the_box_centre_along_the_axes_a_view_sees_across(view):
     assert told.sum() == (2 if view[0] < 0.1 or view == (1.5708, 0.0) else 3)
     np.testing.assert_allclose(seen_centre(seen.points, pos), np.where(told, c, 0.0), atol=0.01)
     # a few stray points at the box's edge (a noisy floor's, left above the support's cut) do not
-    # move it; as many as a hundredth of the points would
+    # move it; two hundredths of the points would
     stray = np.tile([[-0.6, -0.6, -0.45]], (len(seen.points) // 400, 1))
     np.testing.assert_allclose(seen_centre(np.r_[seen.points, stray], pos), np.where(told, c, 0.0), atol=0.01)
     many = np.tile(stray[:1], (len(seen.points) // 50, 1))
