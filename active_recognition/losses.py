@@ -16,7 +16,7 @@ from torch import nn
 
 from . import depth_layer, geometry
 from .episode import Episode, EpisodeConfig, Planner, run
-from .outliers import episode_loss as outlier_episode, images as outlier_images, uniform_ce
+from .outliers import episode_loss as outlier_episode, images as outlier_images, unknown_loss
 from .policies import nearest_candidates, teacher_choice, unavailable
 from .reach import reach_of
 from .validation import InputError
@@ -49,7 +49,7 @@ class PretrainLoss(nn.Module):
             odepth, oviews = outlier_images(outliers, self.corrupt, depth.device)
             both = self.model.classify_image(torch.cat([depth, odepth]), torch.cat([views, oviews]))
             logits = both[:len(depth)]
-            loss = nn.functional.cross_entropy(logits, labels) + outliers.weight * uniform_ce(both[len(depth):])
+            loss = nn.functional.cross_entropy(logits, labels) + unknown_loss(outliers, logits, both[len(depth):])
         return loss, (logits.argmax(1) == labels).float().mean()
 
 
@@ -188,7 +188,7 @@ class ImitationLoss(nn.Module, Planner):
         out = run(ep, known, views, self.steps, corrupt=self.corrupt)  # plain renders
         loss = steps_loss(out, labels, self.weights) + torch.stack(self.head_losses).mean()
         if outliers is not None:  # after the known episode, which stays what it is without
-            loss = loss + outlier_episode(model, outliers, self.candidates, self.steps, self.corrupt, limits)
+            loss = loss + outlier_episode(model, outliers, self.candidates, self.steps, self.corrupt, limits, out)
         return loss, (out[-1].logits.argmax(1) == labels).float().mean()
 
     def teacher_set(self, pool):

@@ -43,6 +43,25 @@ def uniform_ce(logits):
     return (-nn.functional.log_softmax(logits, -1).mean(-1)).mean()
 
 
+def energy_margin(known, unknown, margins):
+    """Liu et al. 2020's energy-bounded loss: the known rows' free energy (-logsumexp of their
+    logits) held below margins[0], the unknown rows' above margins[1], each by a squared hinge
+    averaged over its rows. Unlike uniform_ce it asks nothing of the known rows' softmax, only
+    of the score the node ranks them by (open_set.energy)."""
+    m_in, m_out = margins
+    e_in, e_out = -torch.logsumexp(known, -1), -torch.logsumexp(unknown, -1)
+    return (nn.functional.relu(e_in - m_in).pow(2).mean()
+            + nn.functional.relu(m_out - e_out).pow(2).mean())
+
+
+def unknown_loss(o, known, unknown):
+    """One batch's outlier term, weighted: uniform_ce of the unknown rows, or where the batch
+    carries margins, energy_margin of both."""
+    if o.margins is None:
+        return o.weight * uniform_ce(unknown)
+    return o.weight * energy_margin(known, unknown, o.margins)
+
+
 class OutlierInputs(NamedTuple):
     """One batch's outliers, made with its inputs (Trainer.inputs): nothing here is drawn from
     torch's generator, so a thread may make them ahead."""
@@ -52,6 +71,7 @@ class OutlierInputs(NamedTuple):
     views: np.ndarray           # pre-training: (n * k, 2) views; joint: (n, 2) starts
     depth: np.ndarray | None    # pre-training's images (n * k, H, W); joint: None (rendered as seen)
     rng: np.random.Generator    # the joint episode's random choices
+    margins: tuple | None = None  # energy_margin's (known, unknown) free energies; None: uniform_ce
 
 
 class Outliers:
@@ -59,10 +79,10 @@ class Outliers:
     augmentation, `batch` of them to a batch, their loss weighted by `weight`."""
 
     def __init__(self, camera, augment, limits, weight, batch, views_per_shape, near=0.0, real=0.0,
-                 real_root=None):
+                 real_root=None, margins=None):
         ds = open_dataset("unknowns", split="train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
         self.shapes, self.augment, self.limits = Shapes(ds, camera), augment, limits
-        self.weight, self.k = weight, views_per_shape
+        self.weight, self.k, self.margins = weight, views_per_shape, None if margins is None else tuple(margins)
         self.near, self.near_batch, self.real, self.real_batch = None, 0, None, 0
         if near > 0:  # a share of each batch from the near unknowns (datasets/near.py)
             nds = near_unknowns("train", cache_dir=default_cache_dir(), per_class=PER_CLASS)
@@ -82,9 +102,10 @@ class Outliers:
                 cams = cams + pool.cameras(rng.choice(len(pool), n, replace=False), self.augment, rng)
         if stage == "joint":
             return OutlierInputs(self.weight, cams, starts[rng.integers(0, len(starts), len(cams))],
-                                 None, rng)
+                                 None, rng, self.margins)
         views = [self.limits.random_views(rng, self.k) for _ in cams]
-        return OutlierInputs(self.weight, cams, np.concatenate(views), depth_layer.render_batch(cams, views), rng)
+        return OutlierInputs(self.weight, cams, np.concatenate(views), depth_layer.render_batch(cams, views), rng,
+                             self.margins)
 
 
 @contextmanager
@@ -124,12 +145,14 @@ class RandomCandidates(Planner):
         return self.candidates[draw.argmax(1)]
 
 
-def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits):
-    """The joint stage: weight x the mean over steps of uniform_ce of an outlier episode's
-    logits, its views random unvisited candidates, each rendered when taken (a tenth of every
-    candidate's render for a 10-step episode)."""
+def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits, known=None):
+    """The joint stage: the mean over steps of unknown_loss of an outlier episode's logits, its
+    views random unvisited candidates, each rendered when taken (a tenth of every candidate's
+    render for a 10-step episode); `known`: the known episode's steps, step by step beside them
+    (energy_margin's known rows)."""
     ep = Episode(model, EpisodeConfig(max_views=steps, entropy_threshold=0.0),
                  planner=RandomCandidates(candidates, o.rng), reach=reach_of(limits))
     with running_statistics_kept(model):
         out = run(ep, o.cameras, o.views, steps, corrupt=corrupt)
-    return o.weight * torch.stack([uniform_ce(s.logits) for s in out]).mean()
+    known = [None] * len(out) if known is None else [s.logits for s in known]
+    return torch.stack([unknown_loss(o, k, s.logits) for k, s in zip(known, out)]).mean()

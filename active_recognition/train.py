@@ -125,7 +125,7 @@ class Trainer:
         self.corrupt = self.augment.images if self.augment.changes_images else None
         self.outliers = (Outliers(camera, self.augment, self.limits, cfg.outliers, cfg.outlier_batch,
                                   cfg.views_per_shape, cfg.near_outliers, cfg.real_outliers,
-                                  cfg.real_outliers_root) if cfg.outliers else None)
+                                  cfg.real_outliers_root, cfg.outlier_margins) if cfg.outliers else None)
         if cfg.render_process and self.world > 1:
             raise InputError("render_process: one process trains with a render worker; under torchrun "
                              "each rank renders its own batches (leave out --render-process)")

@@ -63,6 +63,12 @@ class TrainConfig:
         "classes: the real unknowns' train split under --real-outliers-root (rebuilt by "
         "tools/fetch_real_unknowns.py; never its val or test split)"))
     real_outliers_root: str = option("", help="--real-outliers: the real unknowns' folder")
+    outlier_margins: list | None = option(None, kind=list, optional=True, length=(2, 2), items=Check(float),
+                                          metavar=("KNOWN", "UNKNOWN"), help=(
+                                              "--outliers: instead of the cross-entropy to uniform, Liu et "
+                                              "al.'s energy-bounded loss: squared hinges holding the known "
+                                              "objects' free energy (-logsumexp of the logits) below KNOWN "
+                                              "and the unknown ones' above UNKNOWN (default: off)"))
     # every training view keeps inside the views a robot can take
     limits: ViewLimits = nested(ViewLimits, flat=True)
     band_share: float = option(0.0, lo=0, hi=1, help=(
@@ -164,6 +170,14 @@ class TrainConfig:
         if self.real_outliers and not (self.outliers and self.real_outliers_root):
             raise InputError("real_outliers: needs outliers above 0 and real_outliers_root, the folder "
                              "tools/fetch_real_unknowns.py rebuilt the real unknowns in")
+        if self.outlier_margins is not None:
+            known, unknown = self.outlier_margins
+            if not self.outliers:
+                raise InputError("outlier_margins: set the weight of the outlier loss they shape (outliers above 0) "
+                                 "or leave them out")
+            if not known < unknown:
+                raise InputError(f"outlier_margins: the known objects' free energy bound {known:g} must lie below "
+                                 f"the unknown ones' {unknown:g}")
         if self.near_outliers + self.real_outliers > 1:
             raise InputError(f"near_outliers {self.near_outliers:g} and real_outliers {self.real_outliers:g} are "
                              f"shares of one batch's unknown objects: together at most 1")

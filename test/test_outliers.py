@@ -34,6 +34,50 @@ def test_uniform_ce_matches_numpy():
     assert outliers.uniform_ce(torch.zeros(3, 7)).item() == pytest.approx(math.log(7))  # its least
 
 
+def test_energy_margin_matches_numpy():
+    rng = np.random.default_rng(1)
+    known, unknown = rng.normal(0, 4, (6, 5)), rng.normal(0, 1, (4, 5))
+
+    def free_energy(x):
+        top = x.max(1)
+        return -(top + np.log(np.exp(x - top[:, None]).sum(1)))
+
+    for margins in ((-6.0, -2.0), (-3.0, 0.5), (-50.0, 50.0)):
+        e_in, e_out = free_energy(known), free_energy(unknown)
+        expected = (np.mean(np.maximum(e_in - margins[0], 0) ** 2)
+                    + np.mean(np.maximum(margins[1] - e_out, 0) ** 2))
+        got = outliers.energy_margin(torch.tensor(known), torch.tensor(unknown), margins).item()
+        assert got == pytest.approx(expected, rel=1e-12)
+    # within both bounds the loss is nothing: known energies -log(5) - 10, unknown ones -log(5)
+    assert outliers.energy_margin(torch.full((2, 5), 10.0), torch.zeros(3, 5), (-9.0, -2.0)).item() == 0.0
+
+
+def test_pretrain_energy_margins_weigh_both_groups_of_one_batch(tmp_path):
+    run = Trainer(TrainConfig(**TINY, outliers=0.5, outlier_margins=[-4.0, -1.0], out=str(tmp_path / "m")),
+                  progress=False)
+    o = run.outliers.inputs([3], "pretrain", run.starts)
+    assert o.margins == (-4.0, -1.0)
+    rng = np.random.default_rng(2)
+    from active_recognition import depth_layer
+
+    views = rng.random((4, 2)) * [3.0, 6.0]
+    depth = torch.from_numpy(depth_layer.render_batch(run.shapes.cameras(range(4)), [v[None] for v in views]))
+    views, labels = torch.as_tensor(views, dtype=torch.float32), torch.arange(4) % len(run.classes)
+    torch.manual_seed(0)
+    total, _ = PretrainLoss(run.model)(depth, labels, views, o)
+    odepth = torch.from_numpy(o.depth)
+    both = run.model.classify_image(torch.cat([depth, odepth]),
+                                    torch.cat([views, torch.as_tensor(o.views, dtype=torch.float32)]))
+    energy = -torch.logsumexp(both.double(), -1).detach().numpy()
+    ce = torch.nn.functional.cross_entropy(both[:4], labels).item()
+    hinge = np.mean(np.maximum(energy[:4] + 4, 0) ** 2) + np.mean(np.maximum(-1 - energy[4:], 0) ** 2)
+    assert total.item() == pytest.approx(ce + 0.5 * hinge, rel=1e-5)
+    for bad, match in ((dict(outliers=0.5, outlier_margins=[-1.0, -4.0]), "must lie below"),
+                       (dict(outlier_margins=[-4.0, -1.0]), "outliers above 0")):
+        with pytest.raises(InputError, match=match):
+            TrainConfig(**TINY, **bad, out=str(tmp_path / "x"))
+
+
 def test_outliers_leave_the_known_batches_alone_and_add_their_own_term(tmp_path):
     off = Trainer(TrainConfig(**TINY, out=str(tmp_path / "off")), progress=False)
     on = Trainer(TrainConfig(**TINY, outliers=0.5, out=str(tmp_path / "on")), progress=False)
@@ -106,10 +150,11 @@ def test_real_outliers_take_their_share_from_the_train_split_alone(tmp_path):
                             out=str(tmp_path / "e")), progress=False)
 
 
-def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path):
+@pytest.mark.parametrize("margins", [None, [-1e3, 1e3]])
+def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path, margins):
     from active_recognition.train import joint_loss
 
-    cfg = TrainConfig(**TINY, outliers=1.0, out=str(tmp_path / "on"))
+    cfg = TrainConfig(**TINY, outliers=1.0, outlier_margins=margins, out=str(tmp_path / "on"))
     run = Trainer(cfg, progress=False)
     loss = joint_loss(cfg, run.model, run.corrupt)
     inputs = run.inputs("joint", 0, 0, np.arange(6), loss)
@@ -119,7 +164,10 @@ def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path):
     torch.manual_seed(0)  # the same batch again: its inputs afresh, as batch_loss draws the starts from their rng
     total, same = run.batch_loss("joint", loss, np.arange(6), run.inputs("joint", 0, 0, np.arange(6), loss))
     term = (total - plain).item()
-    assert math.isfinite(term) and term >= math.log(len(run.classes)) - 1e-5  # Jensen: CE to uniform >= log C
+    if margins is None:
+        assert math.isfinite(term) and term >= math.log(len(run.classes)) - 1e-5  # Jensen: CE to uniform >= log C
+    else:  # both hinges about 1e3 squared: every free energy here lies within +-50 of 0
+        assert 2 * 950 ** 2 < term < 2 * 1050 ** 2
     assert acc == same
 
 
@@ -180,3 +228,23 @@ def test_pretraining_sees_the_outliers_in_one_batch_with_the_known_images():
     logp = torch.log_softmax(both, -1)
     expected = torch.nn.functional.nll_loss(logp[:5], labels) - 0.5 * logp[5:].mean()
     assert loss.item() == pytest.approx(expected.item(), rel=1e-5)
+
+
+def test_a_tiny_run_with_energy_margins_sets_its_outliers_apart_by_free_energy(tmp_path):
+    from active_recognition import depth_layer
+
+    sure = {**TINY, "pretrain_epochs": 6, "joint_epochs": 0, "lr_pretrain": 5e-3}
+    runs = {"off": {}, "energy": {"outliers": 1.0, "outlier_margins": [-4.0, -2.0]}}
+    models = {k: train(TrainConfig(**sure, **kw, out=str(tmp_path / k)), progress=False) for k, kw in runs.items()}
+    run = Trainer(TrainConfig(**TINY, outliers=1.0, out=str(tmp_path / "probe")), progress=False)
+    o = run.outliers.inputs([99], "pretrain", run.starts)
+    views = torch.as_tensor(o.views, dtype=torch.float32)
+    odd = torch.from_numpy(o.depth)
+    known = torch.from_numpy(depth_layer.render_batch(run.shapes.cameras(range(len(o.cameras))),
+                                                      list(o.views.reshape(len(o.cameras), -1, 2))))
+    gap = {}
+    for k, model in models.items():
+        with torch.no_grad():
+            energy = [-torch.logsumexp(model.eval().classify_image(x, views), -1).mean().item() for x in (known, odd)]
+        gap[k] = energy[1] - energy[0]
+    assert gap["energy"] > gap["off"] + 0.1, gap  # seeded: 0.00 without, 0.70 with
