@@ -145,7 +145,7 @@ class RandomCandidates(Planner):
         return self.candidates[draw.argmax(1)]
 
 
-def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits, known=None):
+def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits, known):
     """The joint stage: the mean over steps of unknown_loss of an outlier episode's logits, its
     views random unvisited candidates, each rendered when taken (a tenth of every candidate's
     render for a 10-step episode); `known`: the known episode's steps, step by step beside them
@@ -154,5 +154,4 @@ def episode_loss(model, o: OutlierInputs, candidates, steps, corrupt, limits, kn
                  planner=RandomCandidates(candidates, o.rng), reach=reach_of(limits))
     with running_statistics_kept(model):
         out = run(ep, o.cameras, o.views, steps, corrupt=corrupt)
-    known = [None] * len(out) if known is None else [s.logits for s in known]
-    return torch.stack([unknown_loss(o, k, s.logits) for k, s in zip(known, out)]).mean()
+    return torch.stack([unknown_loss(o, k.logits, s.logits) for k, s in zip(known, out)]).mean()

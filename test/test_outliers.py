@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import outliers
+from active_recognition import depth_layer, outliers
 from active_recognition.losses import PretrainLoss
 from active_recognition.train import TrainConfig, Trainer, train
 from active_recognition.validation import InputError
@@ -58,8 +58,6 @@ def test_pretrain_energy_margins_weigh_both_groups_of_one_batch(tmp_path):
     o = run.outliers.inputs([3], "pretrain", run.starts)
     assert o.margins == (-4.0, -1.0)
     rng = np.random.default_rng(2)
-    from active_recognition import depth_layer
-
     views = rng.random((4, 2)) * [3.0, 6.0]
     depth = torch.from_numpy(depth_layer.render_batch(run.shapes.cameras(range(4)), [v[None] for v in views]))
     views, labels = torch.as_tensor(views, dtype=torch.float32), torch.arange(4) % len(run.classes)
@@ -231,8 +229,6 @@ def test_pretraining_sees_the_outliers_in_one_batch_with_the_known_images():
 
 
 def test_a_tiny_run_with_energy_margins_sets_its_outliers_apart_by_free_energy(tmp_path):
-    from active_recognition import depth_layer
-
     sure = {**TINY, "pretrain_epochs": 6, "joint_epochs": 0, "lr_pretrain": 5e-3}
     runs = {"off": {}, "energy": {"outliers": 1.0, "outlier_margins": [-4.0, -2.0]}}
     models = {k: train(TrainConfig(**sure, **kw, out=str(tmp_path / k)), progress=False) for k, kw in runs.items()}
