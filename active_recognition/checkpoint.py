@@ -5,7 +5,8 @@
 
 {'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}, and
 'size_prior' where the training set knew its objects' sizes (size_prior.py), 'open_set' where
-its unknown answer was fitted (open_set_fit.py)
+its unknown answer was fitted (open_set_fit.py); 'members' (and 'judges', 'member_files') where it
+is an ensemble of that many networks (ensemble.py)
 """
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from pathlib import Path
 
 import torch
 
+from .ensemble import Ensemble, EnsembleConfig, MAX_MEMBERS
 from .files import atomic_write
 from .model import ModelConfig, RecurrentAttention
 from .size_prior import SizePrior
@@ -108,15 +110,23 @@ def read_any(path):
 
 def build_model(ckpt, path="<checkpoint>"):
     """The model a checkpoint dict describes, with its weights; CheckpointError on any mismatch."""
+    members = ckpt.get("members")
+    if members is not None and (type(members) is not int or not 2 <= members <= MAX_MEMBERS):
+        raise CheckpointError(path, f"members must be an integer from 2 to {MAX_MEMBERS}, got {members!r}")
     try:
         config = ModelConfig(**check_mapping(ModelConfig, ckpt["model_args"], "model_args."))
     except InputError as e:
         raise CheckpointError(path, f"bad model_args ({e})") from None
+    if members:
+        try:
+            config = EnsembleConfig(**config.to_dict(), members=members, judges=ckpt.get("judges", []))
+        except InputError as e:
+            raise CheckpointError(path, str(e)) from None
     classes = ckpt["classes"]
     if not isinstance(classes, list) or len(classes) != config.num_classes:
         raise CheckpointError(path, f"{len(classes) if isinstance(classes, list) else '?'} class "
                                     f"names for a model of {config.num_classes} classes")
-    model = RecurrentAttention(config)
+    model = Ensemble(config) if members else RecurrentAttention(config)
     try:
         model.load_state_dict(ckpt["model"], strict=True)
     except (RuntimeError, TypeError, AttributeError) as e:
@@ -191,6 +201,8 @@ def read_fitting(path, config: ModelConfig, classes, resumable=False, grow_loc=F
     state), to resume from or to start the joint stage from; CheckpointError naming what differs.
     `grow_loc`: a checkpoint without FC_loc's hidden layer fits a run with one (loc_hidden)."""
     ckpt = read(path)
+    if "members" in ckpt:
+        raise CheckpointError(path, "is an ensemble of trained networks (ensemble.py): training continues a single one")
     build_model(ckpt, path)  # its own weights are sound
     if list(ckpt["classes"]) != list(classes):
         raise CheckpointError(path, f"classes {ckpt['classes']} are not the dataset's {list(classes)}")

@@ -138,15 +138,17 @@ def fpr_at(known, unknown, rate=0.95):
 
 
 class Recorder:
-    """An Episode's `forward` that runs the model and keeps, for each call, its logits and the new
-    recurrent state (`record` sorts them into steps afterwards)."""
+    """An Episode's `forward` that runs the model and keeps, for each call, its logits (an
+    ensemble's: its judges', ensemble.py) and the new recurrent state (`record` sorts them into steps afterwards)."""
 
     def __init__(self, model):
         self.model, self.calls = model, []
 
     def __call__(self, depth, hidden, view):
         logits, delta, hidden = self.model(depth, hidden, view)
-        self.calls.append((logits.detach().cpu().numpy(), hidden.detach().cpu().numpy()))
+        judge = getattr(self.model, "judge_logits", None)  # an ensemble's judges: what the scores read
+        kept = logits if judge is None else judge(hidden)
+        self.calls.append((kept.detach().cpu().numpy(), hidden.detach().cpu().numpy()))
         return logits, delta, hidden
 
     def record(self, probs, chunk, steps, mirror):

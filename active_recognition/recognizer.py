@@ -277,9 +277,9 @@ class ActiveRecognizer:
                            done, self.episode.steps, seen.view, seen.object_fraction)
 
     def doubt(self, episode, logits):
-        """The episode's hook after each step's state (Episode.doubt): scores the view (its energy,
-        and its prototype score against its step's class means where the checkpoint carries them)
-        and says whether a confident answer must wait (sensing.hold_unknown, while it looks unknown)."""
+        """Episode.doubt: scores the view (its energy, an ensemble's of its judges' logits; its prototype score where
+        the checkpoint carries class means) and says if a confident answer waits (hold_unknown: it looks unknown)."""
+        logits = self.model.judge_logits(episode.hidden[:1]) if hasattr(self.model, "judge_logits") else logits
         self.energies.append(float(energy(logits[0].detach().cpu().numpy())))
         if self.model.open_set is not None:
             self.prototypes.append(float(prototype_at(episode.hidden[:1].detach().cpu().numpy(),
