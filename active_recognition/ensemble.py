@@ -4,19 +4,14 @@
 """Several trained networks of the same options read the same images, as one model.
 
 An `Ensemble` is a drop-in `RecurrentAttention`: its state is its members' states side by side,
-its logits the mean of theirs (so the energy of an ensemble is that of the averaged logits: where
-the members disagree it is higher than any one's, which tells unknown objects), its view scores
-(FC_view) the mean of its members' log-probabilities over the candidates, its FC_loc the first
-member's. Members keep their own weights: a network trained without outliers (the best classifier)
-beside one trained with them (the best judge of unknown objects). `judges` names the members whose
-averaged logits give the energy the `unknown` answer reads (`judge_logits`; default every member):
-the judge of unknown objects need not be the classifier. Nothing is trained here; an
-ensemble's checkpoint holds every member's weights under 'model' and their number under
-'members', the first member's size prior, planner, path and training options, and the sum of the
-members' training time; its `unknown` answer is fitted on
-the ensemble itself (open_set_fit.py).
-
-    python -m active_recognition.ensemble MEMBER.pt MEMBER.pt [...] --out ENSEMBLE.pt [--judges 0]
+its logits the mean of theirs, its view scores (FC_view) the mean of its members'
+log-probabilities over the candidates, its FC_loc the first member's. Members keep their own
+weights: a network trained without outliers (the better classifier) beside one trained with them
+(the better judge of unknown objects). `judges` names the members whose averaged logits give the
+energy the `unknown` answer reads (`judge_logits`; default every member): the judge need not be
+the classifier. Nothing is trained here; combine.py writes an ensemble's checkpoint (every
+member's weights under 'model', their number under 'members', the judges under 'judges'), and
+its `unknown` answer is fitted on the ensemble itself (open_set_fit.py).
 """
 from __future__ import annotations
 
