@@ -17,7 +17,7 @@ from pathlib import Path
 
 import torch
 
-from .ensemble import Ensemble, EnsembleConfig, MAX_MEMBERS
+from .ensemble import Ensemble, EnsembleConfig
 from .files import atomic_write
 from .model import ModelConfig, RecurrentAttention
 from .size_prior import SizePrior
@@ -110,23 +110,21 @@ def read_any(path):
 
 def build_model(ckpt, path="<checkpoint>"):
     """The model a checkpoint dict describes, with its weights; CheckpointError on any mismatch."""
-    members = ckpt.get("members")
-    if members is not None and (type(members) is not int or not 2 <= members <= MAX_MEMBERS):
-        raise CheckpointError(path, f"members must be an integer from 2 to {MAX_MEMBERS}, got {members!r}")
     try:
         config = ModelConfig(**check_mapping(ModelConfig, ckpt["model_args"], "model_args."))
     except InputError as e:
         raise CheckpointError(path, f"bad model_args ({e})") from None
-    if members:
+    ensemble = "members" in ckpt
+    if ensemble:  # EnsembleConfig checks the number of members and the judges
         try:
-            config = EnsembleConfig(**config.to_dict(), members=members, judges=ckpt.get("judges", []))
+            config = EnsembleConfig(**config.to_dict(), members=ckpt["members"], judges=ckpt.get("judges", []))
         except InputError as e:
             raise CheckpointError(path, str(e)) from None
     classes = ckpt["classes"]
     if not isinstance(classes, list) or len(classes) != config.num_classes:
         raise CheckpointError(path, f"{len(classes) if isinstance(classes, list) else '?'} class "
                                     f"names for a model of {config.num_classes} classes")
-    model = Ensemble(config) if members else RecurrentAttention(config)
+    model = Ensemble(config) if ensemble else RecurrentAttention(config)
     try:
         model.load_state_dict(ckpt["model"], strict=True)
     except (RuntimeError, TypeError, AttributeError) as e:

@@ -97,10 +97,6 @@ class Ensemble(nn.Module):
         return torch.stack([m.score_views(s).log_softmax(-1)
                             for m, s in zip(self.members, self.parts(state))]).mean(0)
 
-    def forward(self, depth, hidden, view=None):
-        hidden = self.advance(self.features(depth), hidden, view)
-        return self.classify(hidden), self.increment(hidden), hidden
-
-    def classify_image(self, depth, view=None):
-        return self.classify(self.advance(self.features(depth), self.init_hidden(len(depth), depth.device),
-                                          view))
+    # one step, and the shape classifier alone, composed exactly as a single network's are
+    forward = RecurrentAttention.forward
+    classify_image = RecurrentAttention.classify_image

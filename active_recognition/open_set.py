@@ -137,6 +137,13 @@ def fpr_at(known, unknown, rate=0.95):
     return float((np.ravel(unknown) <= threshold_at(known, rate)).mean())
 
 
+def judged(model, logits, state):
+    """The logits the unknown score reads: an ensemble's judges' on `state` (ensemble.py), else
+    the step's own `logits`."""
+    judge = getattr(model, "judge_logits", None)
+    return logits if judge is None else judge(state)
+
+
 class Recorder:
     """An Episode's `forward` that runs the model and keeps, for each call, its logits (an
     ensemble's: its judges', ensemble.py) and the new recurrent state (`record` sorts them into steps afterwards)."""
@@ -146,9 +153,7 @@ class Recorder:
 
     def __call__(self, depth, hidden, view):
         logits, delta, hidden = self.model(depth, hidden, view)
-        judge = getattr(self.model, "judge_logits", None)  # an ensemble's judges: what the scores read
-        kept = logits if judge is None else judge(hidden)
-        self.calls.append((kept.detach().cpu().numpy(), hidden.detach().cpu().numpy()))
+        self.calls.append((judged(self.model, logits, hidden).detach().cpu().numpy(), hidden.detach().cpu().numpy()))
         return logits, delta, hidden
 
     def record(self, probs, chunk, steps, mirror):

@@ -27,7 +27,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
-from .open_set import energy, prototype_at, step_thresholds
+from .open_set import energy, judged, prototype_at, step_thresholds
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -279,7 +279,7 @@ class ActiveRecognizer:
     def doubt(self, episode, logits):
         """Episode.doubt: scores the view (its energy, an ensemble's of its judges' logits; its prototype score where
         the checkpoint carries class means) and says if a confident answer waits (hold_unknown: it looks unknown)."""
-        logits = self.model.judge_logits(episode.hidden[:1]) if hasattr(self.model, "judge_logits") else logits
+        logits = judged(self.model, logits, episode.hidden[:1])
         self.energies.append(float(energy(logits[0].detach().cpu().numpy())))
         if self.model.open_set is not None:
             self.prototypes.append(float(prototype_at(episode.hidden[:1].detach().cpu().numpy(),
