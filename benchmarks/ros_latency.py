@@ -45,10 +45,11 @@ def rss_mb():
         return int(f.read().split()[1]) * resource.getpagesize() / 2 ** 20
 
 
-def closed_loop(episodes, camera=None, pose_source="topic"):
+def closed_loop(episodes, camera=None, pose_source="topic", checkpoint=None):
     """Time `episodes` 10-view episodes (after 2 to warm up) with the simulated camera, the
     model's own (camera None) or the RealSense preset with `camera`'s size and K, its pose on
-    camera/pose or on TF (`pose_source`). Every callback
+    camera/pose or on TF (`pose_source`), the recognizer's model procedural.pt or `checkpoint`
+    (a path; it classifies the same procedural objects). Every callback
     runs in one thread, as each node runs in its own process (`rclpy.spin`): in a multi-threaded
     executor's worker threads torch does not keep its one-thread setting, and a step of the
     compact model took 0.5 ms more."""
@@ -59,7 +60,8 @@ def closed_loop(episodes, camera=None, pose_source="topic"):
         tf = pose_source == "tf"
         cam = SimulatedCameraNode(context=ctx, parameter_overrides=sensor + [
             Parameter("publish_tf", value=tf), Parameter("publish_pose", value=not tf)])
-        rec = Recognizer(context=ctx, parameter_overrides=[PROCEDURAL, Parameter("entropy_threshold", value=0.0),
+        model = PROCEDURAL if checkpoint is None else Parameter("checkpoint", value=str(checkpoint))
+        rec = Recognizer(context=ctx, parameter_overrides=[model, Parameter("entropy_threshold", value=0.0),
                                                            Parameter("pose_source", value=pose_source)])
         client = DemoClient(context=ctx)
         for n in (cam, rec, client):
