@@ -39,6 +39,7 @@ class CameraRun:
     energies: list
     prototypes: list
     views: np.ndarray | None = None  # (V, 2) the views the images were taken from, in turn
+    size: float = 1.0  # metres: the object's size as shown and told to the recognizer
 
 
 def recording_core(path, planner, steps, seed=0, use_size=True, travel_cost=None):
@@ -89,7 +90,7 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
         runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
                               obs is not None and obs.status == "recognized" and obs.label == truth,
                               float(np.mean(scores)) if scores else float("nan"),
-                              probs, states, list(core.energies), list(core.prototypes), core.views_taken()))
+                              probs, states, list(core.energies), list(core.prototypes), core.views_taken(), size))
     return runs
 
 

@@ -13,7 +13,8 @@ Every score here is "higher = more likely unknown", one per object and step (N, 
   training objects (`Gaussians`; Lee et al. 2018);
 - `prototype`: 1 - the cosine similarity of the step's recurrent state to the nearest class mean
   (the same fitted means): a distance blind to the state's scale;
-- `*_mean`: a score's running mean over the steps so far: evidence accumulated over the views.
+- `*_mean`: a score's running mean over the steps so far: evidence accumulated over the views;
+  energy_mean may add a size term (`size_term`): a known size unlike every class's is evidence too.
 
 `auroc` and `fpr_at` measure how well a score tells unknown objects from known ones;
 `threshold_at` picks an operating point on validation scores of known objects.
@@ -204,6 +205,16 @@ def confident(probs, entropy_threshold):
     """(N, T) bool: the steps whose answer (probs (N, T, C)) has entropy below the threshold."""
     p = np.clip(np.asarray(probs, dtype=float), 1e-12, 1.0)
     return -(p * np.log(p)).sum(-1) < entropy_threshold
+
+
+def size_term(model, size):
+    """What the object's size adds to an episode's energy_mean before its thresholds are read: the
+    checkpoint's open_set `size_weight` x the size prior's surprise at `size` (metres; size_prior.py),
+    0 where the size is not used (None), the model carries no size prior or the weight is 0."""
+    weight = (model.open_set or {}).get("size_weight", 0.0)
+    if size is None or not weight or model.size_prior is None:
+        return 0.0
+    return float(weight * model.size_prior.surprise(size)[0])
 
 
 def step_thresholds(threshold, steps):

@@ -49,6 +49,7 @@ from .validation import InputError
 
 FIT_OBJECTS = 600  # training objects whose states the means are fitted on
 KNOWN_RATE = 0.97
+SIZE_WEIGHTS = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)  # the size term's weights tried (energy_mean through a camera)
 
 
 def episodes(planner, model, shapes, objects, cfg, fixed_path=None):
@@ -97,8 +98,10 @@ def flagged(probs, running, entropy_threshold, thresholds):
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
         seed=0, val_objects=0, size=True, camera="model", unknowns="unknowns", unknowns_root=None,
-        score=checkpoint.OPEN_SET_SCORE):
+        score=checkpoint.OPEN_SET_SCORE, size_weights=SIZE_WEIGHTS):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
+    if not size_weights or any(not (np.isfinite(w) and w >= 0) for w in size_weights):
+        raise InputError(f"size_weights must be numbers >= 0, at least one, got {list(size_weights)}")
     if score not in checkpoint.OPEN_SET_SCORES:
         raise InputError(f"score must be one of {', '.join(checkpoint.OPEN_SET_SCORES)}, got {score!r}")
     model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
@@ -124,15 +127,21 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
     means = prototype_means(rec["states"], ro.labels, model.config.num_classes)
     pick = {name: np.sort(np.random.default_rng(seed).permutation(len(s))[:val_objects or len(s)])
             for name, s in (("known", val), ("unknown", unknown))}
-    through = {}
+    through, sizes = {}, None
     if camera == "model":
         known = scored(planner, model, val, pick["known"], cfg, means, fixed_path, score)
         other = scored(planner, model, unknown, pick["unknown"], cfg, means, fixed_path, score)
     else:
         groups = (train.ds, fit_on), (val.ds, pick["known"]), (unknown.ds, pick["unknown"], unknowns, unknowns_root)
-        means, known, other, through = through_camera(path, planner, dataset, root, camera, steps, seed,
-                                                      size, *groups, means, score)
+        means, known, other, through, sizes = through_camera(path, planner, dataset, root, camera, steps, seed,
+                                                             size, *groups, means, score)
     floor = -np.inf if score == "energy_mean" else 1e-6  # an energy may be of any sign
+    weight = 0.0
+    if score == "energy_mean" and size and sizes is not None and model.size_prior is not None:
+        weight, through["size_weights"] = size_weight(model.size_prior, known, other, sizes, cfg.entropy_threshold,
+                                                      known_rate, size_weights)
+        known = with_size(known, model.size_prior, sizes["known"], weight)
+        other = with_size(other, model.size_prior, sizes["unknown"], weight)
     thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
                  "seed": int(seed), "size": bool(size), "known_rate": float(known_rate), "unknowns": unknowns,
@@ -143,18 +152,43 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
                  "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4), "camera": camera,
                  **through}
     entry = {"score": score, "means": torch.from_numpy(means),
-             "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
+             "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on, "size_weight": float(weight)}
     return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
+
+
+def with_size(group, prior, sizes, weight):
+    """(probs, running energy_mean + weight x the size prior's surprise at each episode's size)."""
+    probs, running = group
+    return probs, running + weight * prior.surprise(sizes)[:, None]
+
+
+def size_weight(prior, known, unknown, sizes, entropy_threshold, known_rate, weights=SIZE_WEIGHTS):
+    """(weight, table): of `weights`, the weight of the size term (open_set.size_term: weight x the
+    size prior's surprise at each object's size, added to its running energy) under which the
+    recognizer's hold, with thresholds fitted on the known val episodes at `known_rate`, ends the
+    most val unknowns `unknown` (ties: the least weight); the table gives each weight's figures.
+    known, unknown: (probs, running energy_mean) of the val episodes; sizes: {known, unknown: (N,)}."""
+    table, best = {}, None
+    for w in sorted(weights):
+        k, u = with_size(known, prior, sizes["known"], w), with_size(unknown, prior, sizes["unknown"], w)
+        thresholds = open_set.held_thresholds(*k, entropy_threshold, known_rate, -np.inf)
+        row = {"val_known_rejected": round(float(flagged(*k, entropy_threshold, thresholds).mean()), 4),
+               "val_unknown_flagged": round(float(flagged(*u, entropy_threshold, thresholds).mean()), 4),
+               "val_auroc": round(open_set.auroc(k[1][:, -1], u[1][:, -1]), 4)}
+        table[str(w)] = row
+        if best is None or row["val_unknown_flagged"] > table[str(best)]["val_unknown_flagged"]:
+            best = w
+    return float(best), table
 
 
 def through_camera(path, planner, dataset, root, preset, steps, seed, size, train, val, unknown, rendered,
                    score=checkpoint.OPEN_SET_SCORE):
-    """(means, known, unknown, notes) fitted on episodes through simulated camera `preset` as the
+    """(means, known, unknown, notes, sizes) fitted on episodes through simulated camera `preset` as the
     node runs them (camera_episodes.py), each of `steps` images without a stop: the class means
     of the training episodes' states, or `rendered` (of the model's own renders) where those
     tell the val unknowns better (val AUROC of prototype_mean after `steps` views); known and
     unknown: (probs, running `score`) of the val episodes (prototype_mean against the chosen
-    means)."""
+    means); sizes: {known, unknown: (N,) each episode's object size in metres}."""
     from .camera_episodes import camera_runs, full_length, recording_core
 
     core = recording_core(path, planner, steps, seed, use_size=size)  # every step recorded
@@ -173,11 +207,12 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
     best = max(auroc, key=auroc.get)
     notes = {"means_from": best, "val_auroc_by_means": {k: round(v, 4) for k, v in auroc.items()},
              "train_objects_through_camera": len(runs["train"][2])}
+    sizes = {g: np.array([r.size for r in runs[g][2]]) for g in ("known", "unknown")}
     if score == "energy_mean":  # each view's energy, as the recognizer took it
         return candidates[best], *(
             (runs[g][0], open_set.running_mean(np.array([r.energies[:steps] for r in runs[g][2]])))
-            for g in ("known", "unknown")), notes
-    return candidates[best], scored_by[best]["known"], scored_by[best]["unknown"], notes
+            for g in ("known", "unknown")), notes, sizes
+    return candidates[best], scored_by[best]["known"], scored_by[best]["unknown"], notes, sizes
 
 
 def store(path, entry, out=None):
@@ -214,18 +249,22 @@ def main(argv=None):
         "the unknown score the thresholds are on: prototype_mean (the default: the state's cosine "
         "distance to the class means) or energy_mean (each view's -log sum exp of the logits, for "
         "a model trained with outliers)"))
+    ap.add_argument("--size-weights", type=float, nargs="+", default=list(SIZE_WEIGHTS), help=(
+        "energy_mean through a camera, with the objects' sizes: the weights of the size term tried on val "
+        f"(the one that flags the most val unknowns is kept; 0 alone: no size term; default {list(SIZE_WEIGHTS)})"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     args = ap.parse_args(argv)
     try:
         path = checkpoint.model_path(args.checkpoint, args.dataset)
         entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
                     args.seed, args.val_objects, args.size, args.camera, args.unknowns, args.unknowns_root,
-                    args.score)
+                    args.score, args.size_weights)
         store(path, entry, args.out)
     except InputError as e:
         ap.error(str(e))
     steps = ", ".join(f"{t:.4f}" for t in entry["threshold"])
-    print(f"{args.out or path}: open_set thresholds by views {steps}; {entry['fitted_on']}", file=sys.stderr)
+    print(f"{args.out or path}: open_set thresholds by views {steps}, size weight {entry['size_weight']}; "
+          f"{entry['fitted_on']}", file=sys.stderr)
 
 
 def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100, fixed_path=None):

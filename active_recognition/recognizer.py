@@ -27,7 +27,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
-from .open_set import energy, judged, prototype_at, step_thresholds
+from .open_set import energy, judged, prototype_at, size_term, step_thresholds
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -308,15 +308,15 @@ class ActiveRecognizer:
         return self.energies if own and self.model.open_set["score"] == "energy_mean" else self.prototypes
 
     def open_set_threshold(self):
-        """The threshold in force after the views scored so far (inf: none): the checkpoint's for
-        that many views (on its own score), or the prototype_mean one sensing.unknown_threshold
-        sets for all."""
+        """The threshold in force after the views scored so far (inf: none): the checkpoint's for that many
+        views on its own score, less its size term (open_set.size_term), or sensing.unknown_threshold's."""
         chosen = self.sensing.unknown_threshold
         if chosen == 0 or self.model.open_set is None:
             return math.inf
         if chosen > 0:
             return chosen
-        return float(step_thresholds(self.model.open_set["threshold"], max(len(self.open_set_scores()), 1))[-1])
+        thresholds = step_thresholds(self.model.open_set["threshold"], max(len(self.open_set_scores()), 1))
+        return float(thresholds[-1]) - size_term(self.model, self.sensing.use_size and self.sensing.object_size or None)
 
     @contextmanager
     def threads(self):

@@ -47,6 +47,16 @@ class SizePrior:
         normal = torch.exp(-0.5 * z ** 2) / (sd * math.sqrt(2 * math.pi))
         return torch.log((1 - self.outlier) * normal + self.outlier / (self.log_hi - self.log_lo))
 
+    def surprise(self, size):
+        """(B,) how unlike every class's sizes each size (metres) is: -max over the classes of the
+        log-normal log-density, the outlier chance left out (the `unknown` answer's size term)."""
+        size = torch.as_tensor(size, dtype=torch.float64).reshape(-1)
+        if not (torch.isfinite(size).all() and (size > 0).all()):
+            raise InputError(f"object size must be a positive number of metres, got {size.tolist()}")
+        sd = torch.tensor(self.log_scale, dtype=torch.float64)
+        z = (size.log()[:, None] - torch.tensor(self.log_median, dtype=torch.float64)) / sd
+        return (0.5 * z ** 2 + torch.log(sd * math.sqrt(2 * math.pi))).min(-1).values.numpy()
+
     def apply(self, probs, size):
         """probs (B, C) x p(size | class)^weight, renormalised (sizes (B,) in metres)."""
         log = probs.double().clamp_min(1e-12).log() + self.weight * self.log_likelihood(size)

@@ -30,6 +30,7 @@ docs/results/modelnet10/open_set.json (a partial run must give --out); the last 
 import argparse
 from pathlib import Path
 
+import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
 from active_recognition import checkpoint, open_set
@@ -50,17 +51,27 @@ def r4(x):
     return round(float(x), 4)
 
 
-def stored_point(entry, known, unknown, entropy_threshold):
+def size_terms(model, shapes, ro, size):
+    """(N,) each episode's size term (open_set.size_term: what its object's size adds to its
+    energy_mean before the thresholds are read); 0 where sizes are not read (--no-size)."""
+    sizes = shapes.sizes(ro.objects) if size else None
+    if sizes is None:
+        return np.zeros(len(ro.objects))
+    return np.array([open_set.size_term(model, s) for s in sizes])
+
+
+def stored_point(entry, known, unknown, entropy_threshold, terms=(0.0, 0.0)):
     """The operating point of the checkpoint's own open_set (its score, prototype_mean against its
     class means or energy_mean, and per-step thresholds) on the test runs known and unknown
     ((Rollout, record) each), as the recognizer answers under its hold (a confident answer that
     looks unknown waits): known
     rejected, unknown flagged and known accuracy (an unknown answer wrong) of the episodes cut
     after 3, 6 and 9 views (max_views k) and at their end (`end`); `unheld`: at the end of the
-    entropy stop without the hold."""
+    entropy stop without the hold. terms: the known and unknown episodes' size terms (size_terms)."""
     means = entry["means"].numpy()
     (kro, krec), (uro, urec) = known, unknown
-    ks, us = (running(entry["score"], r["states"], r["logits"], means) for r in (krec, urec))
+    ks, us = (running(entry["score"], r["states"], r["logits"], means) + np.reshape(t, (-1, 1))
+              for r, t in ((krec, terms[0]), (urec, terms[1])))
     steps = ks.shape[1]
     thr = open_set.step_thresholds(entry["threshold"], steps)
     right = kro.probs.argmax(-1) == kro.labels[:, None]
@@ -152,8 +163,10 @@ def run(args):
     record |= operating(sc["known_val"], sc["known_test"], sc["unknown_test"], ro, args.known_rate)
     record["unknown_flagged_by_kind"] = by_kind(runs["unknown_test"], chosen, record["operating_point"][chosen])
     if model.open_set is not None:  # the checkpoint's own operating point (open_set_fit.py)
+        terms = [size_terms(model, shapes, recs[name][0], args.size)
+                 for name, shapes in (("known_test", test), ("unknown_test", unknown["test"]))]
         record["stored"] = stored_point(model.open_set, recs["known_test"], recs["unknown_test"],
-                                        cfg.entropy_threshold)
+                                        cfg.entropy_threshold, terms)
         if args.compare != planner:  # what the planner's choice of views adds: the same, another planner's
             other = {name: episodes(args.compare, model, shapes, objects, cfg, fixed_path)
                      for name, (shapes, objects) in (("known", (test, recs["known_test"][0].objects)),
@@ -165,7 +178,7 @@ def run(args):
             record["compared"] = {"planner": args.compare, "auroc": c_auroc["prototype_mean"],
                                   "fpr95": c_fpr["prototype_mean"],
                                   "stored": stored_point(model.open_set, other["known"], other["unknown"],
-                                                         cfg.entropy_threshold)}
+                                                         cfg.entropy_threshold, terms)}
     print_tables(record, args.steps)
     if args.out != "":
         write_json(Path(args.out), record)

@@ -17,7 +17,7 @@ Prints, and writes to docs/results/modelnet10/open_set_camera.json (open_set_cam
 for real unknowns; a partial run must give --out), the share of each
 group answered `unknown`, the other statuses, the known accuracy (an `unknown` answer wrong),
 and the AUROC and FPR@95 of the checkpoint's own running score (prototype_mean, or energy_mean
-where its open_set says so) at each episode's end; and the first
+where its open_set says so, plus its size term: open_set.size_term) at each episode's end; and the first
 three as a robot allowed 3, 6 or 9 classified images would have them (`cut`: the answer after
 that image, `unknown` where the running score is above that step's threshold; an episode that
 ended sooner as it ended). Last line is JSON.
@@ -26,6 +26,7 @@ ended sooner as it ended). Last line is JSON.
 """
 import argparse
 from collections import Counter
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -46,21 +47,22 @@ OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or
 CUTS = (3, 6, 9)
 
 
-def cut(run, t, thresholds, score="prototype_mean"):
+def cut(run, t, thresholds, score="prototype_mean", size_term=0.0):
     """(answered unknown, answered right) of a CameraRun cut after its t-th classified image,
-    against per-step thresholds on `score` (its views' prototypes, or energies for energy_mean);
-    a run with no more images than t as it ended."""
+    against per-step thresholds on `score` (its views' prototypes, or energies for energy_mean),
+    less the run's size term (open_set.size_term); a run with no more images than t as it ended."""
     if len(run.probs) <= t:
         return run.status == "unknown", run.right
     views = run.energies if score == "energy_mean" else run.prototypes
-    flagged = float(np.mean(views[:t])) > open_set.step_thresholds(thresholds, t)[-1]
+    flagged = float(np.mean(views[:t])) > open_set.step_thresholds(thresholds, t)[-1] - size_term
     return flagged, not flagged and int(np.argmax(run.probs[t - 1])) == run.label
 
 
 def run(ap, args):
     partial = [flag for flag, on in (("--objects", args.objects != OBJECTS_DEFAULT), ("--seed", args.seed),
                                      ("--checkpoint", args.checkpoint), ("--camera", args.camera != "realsense"),
-                                     ("--unknowns-root", args.unknowns != "real_unknowns" and args.unknowns_root))
+                                     ("--unknowns-root", args.unknowns != "real_unknowns" and args.unknowns_root),
+                                     ("--no-size", args.no_size))
                if on]
     name = "open_set_camera_real.json" if args.unknowns == "real_unknowns" else "open_set_camera.json"
     args.out = output(ap, args.out, str(results_dir("modelnet") / name), partial)
@@ -69,7 +71,9 @@ def run(ap, args):
     if model.open_set is None:
         ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
     node = RecognizerParameters()  # the node's defaults
-    core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, node.sensing, node.limits)
+    sensing = replace(node.sensing, use_size=False) if args.no_size else node.sensing
+    core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, sensing, node.limits)
+    size_term = (lambda run: open_set.size_term(model, None if args.no_size else run.size))
     groups, cuts, costs = {}, {}, {}
     if args.objects < 0:
         ap.error("--objects must be 0 (all) or more")
@@ -82,10 +86,12 @@ def run(ap, args):
         if group == "unknown":
             near = np.array([dataset == "real_unknowns" and is_near(test, i) for i in objects])
         runs = camera_runs(core, test, dataset, "test", objects, args.camera, args.seed, root, record=True)
-        groups[group] = ([r.status for r in runs], [r.right for r in runs], np.array([r.score for r in runs]),
+        groups[group] = ([r.status for r in runs], [r.right for r in runs],
+                         np.array([r.score + size_term(r) for r in runs]),
                          [test.classes[test.items[int(i)][1]] for i in objects])
         costs[group] = {k: round(v, digits) for (k, v), digits in zip(robot_cost(runs).items(), (3, 1, 2, 2))}
-        cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"], model.open_set["score"]) for r in runs])
+        cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"], model.open_set["score"], size_term(r))
+                                    for r in runs])
                        for t in CUTS}
     (ks, kr, kscore, _), (us, _, uscore, _) = groups["known"], groups["unknown"]
     seen = np.isfinite(kscore), np.isfinite(uscore)
@@ -96,6 +102,7 @@ def run(ap, args):
               "known_accuracy": round(float(np.mean(kr)), 4),
               "statuses": {g: dict(Counter(groups[g][0])) for g in groups},
               "score": model.open_set["score"],  # the checkpoint's own, the AUROCs' and the cut's
+              "size_weight": model.open_set.get("size_weight", 0.0), "use_size": not args.no_size,
               "auroc": round(open_set.auroc(kscore[seen[0]], uscore[seen[1]]), 4),
               "fpr95": round(open_set.fpr_at(kscore[seen[0]], uscore[seen[1]]), 4),
               "cut": {name: {str(t): round(float(cuts[g][t][:, col].mean()), 4) for t in CUTS}
@@ -126,6 +133,8 @@ def main(argv=None):
                     help="known and unknown test objects each (a seeded draw; default 0: every one)")
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
     add_unknowns_flags(ap)
+    ap.add_argument("--no-size", action="store_true", help="the recognizer not told the objects' sizes "
+                    "(use_size false: no size prior, no size term in the unknown score)")
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/open_set_camera.json, open_set_camera_real.json with "
                     "--unknowns real_unknowns; a partial run must give it)")
