@@ -217,6 +217,17 @@ def size_term(model, size):
     return float(weight * model.size_prior.surprise(size)[0])
 
 
+def own_thresholds(model, size):
+    """The checkpoint's thresholds (one per step) in force for an object of `size` (metres; None:
+    the size not used): those fitted with its size term, less the term; where no term applies
+    (no size, no size prior), those fitted without one (`threshold_no_size`, where it has a term)."""
+    entry = model.open_set
+    if entry.get("size_weight", 0.0) and size is not None and model.size_prior is not None:
+        term = size_term(model, size)
+        return [t - term for t in entry["threshold"]]
+    return entry.get("threshold_no_size", entry["threshold"])
+
+
 def step_thresholds(threshold, steps):
     """(steps,) the threshold in force at each step: `threshold` a number or one per step (past
     its end, its last)."""

@@ -136,7 +136,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
         means, known, other, through, sizes = through_camera(path, planner, dataset, root, camera, steps, seed,
                                                              size, *groups, means, score)
     floor = -np.inf if score == "energy_mean" else 1e-6  # an energy may be of any sign
-    weight = 0.0
+    weight, plain = 0.0, open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
     if score == "energy_mean" and size and sizes is not None and model.size_prior is not None:
         weight, through["size_weights"] = size_weight(model.size_prior, known, other, sizes, cfg.entropy_threshold,
                                                       known_rate, size_weights)
@@ -152,7 +152,9 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
                  "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4), "camera": camera,
                  **through}
     entry = {"score": score, "means": torch.from_numpy(means),
-             "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on, "size_weight": float(weight)}
+             "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
+    if weight:  # with the size term; the thresholds without it for a recognizer not told the size
+        entry |= {"size_weight": float(weight), "threshold_no_size": torch.from_numpy(plain)}
     return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
 
 

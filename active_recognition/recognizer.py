@@ -27,7 +27,7 @@ from . import checkpoint, geometry
 from .depth_layer import CameraConfig
 from .episode import Episode, EpisodeConfig, MAX_VIEWS
 from .model import single_step
-from .open_set import energy, judged, prototype_at, size_term, step_thresholds
+from .open_set import energy, judged, own_thresholds, prototype_at, step_thresholds
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
 from .reach import Reach, ViewLimits
 from .reprojection import Frame, auto_standoff, seen_centre
@@ -309,14 +309,14 @@ class ActiveRecognizer:
 
     def open_set_threshold(self):
         """The threshold in force after the views scored so far (inf: none): the checkpoint's for that many
-        views on its own score, less its size term (open_set.size_term), or sensing.unknown_threshold's."""
+        views on its own score, for this size (open_set.own_thresholds), or sensing.unknown_threshold's."""
         chosen = self.sensing.unknown_threshold
         if chosen == 0 or self.model.open_set is None:
             return math.inf
         if chosen > 0:
             return chosen
-        thresholds = step_thresholds(self.model.open_set["threshold"], max(len(self.open_set_scores()), 1))
-        return float(thresholds[-1]) - size_term(self.model, self.sensing.use_size and self.sensing.object_size or None)
+        own = own_thresholds(self.model, self.sensing.object_size if self.sensing.use_size else None)
+        return float(step_thresholds(own, max(len(self.open_set_scores()), 1))[-1])
 
     @contextmanager
     def threads(self):

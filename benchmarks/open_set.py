@@ -165,8 +165,9 @@ def run(args):
     if model.open_set is not None:  # the checkpoint's own operating point (open_set_fit.py)
         terms = [size_terms(model, shapes, recs[name][0], args.size)
                  for name, shapes in (("known_test", test), ("unknown_test", unknown["test"]))]
-        record["stored"] = stored_point(model.open_set, recs["known_test"], recs["unknown_test"],
-                                        cfg.entropy_threshold, terms)
+        entry = model.open_set if terms[0].any() else {  # no size term: the thresholds fitted without one
+            **model.open_set, "threshold": open_set.own_thresholds(model, None)}
+        record["stored"] = stored_point(entry, recs["known_test"], recs["unknown_test"], cfg.entropy_threshold, terms)
         if args.compare != planner:  # what the planner's choice of views adds: the same, another planner's
             other = {name: episodes(args.compare, model, shapes, objects, cfg, fixed_path)
                      for name, (shapes, objects) in (("known", (test, recs["known_test"][0].objects)),
@@ -177,7 +178,7 @@ def run(args):
             c_auroc, c_fpr = measure(ks, us, args.steps)
             record["compared"] = {"planner": args.compare, "auroc": c_auroc["prototype_mean"],
                                   "fpr95": c_fpr["prototype_mean"],
-                                  "stored": stored_point(model.open_set, other["known"], other["unknown"],
+                                  "stored": stored_point(entry, other["known"], other["unknown"],
                                                          cfg.entropy_threshold, terms)}
     print_tables(record, args.steps)
     if args.out != "":

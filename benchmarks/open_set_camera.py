@@ -47,14 +47,15 @@ OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or
 CUTS = (3, 6, 9)
 
 
-def cut(run, t, thresholds, score="prototype_mean", size_term=0.0):
+def cut(run, t, thresholds, score="prototype_mean"):
     """(answered unknown, answered right) of a CameraRun cut after its t-th classified image,
-    against per-step thresholds on `score` (its views' prototypes, or energies for energy_mean),
-    less the run's size term (open_set.size_term); a run with no more images than t as it ended."""
+    against per-step thresholds on `score` (its views' prototypes, or energies for energy_mean;
+    the checkpoint's for the run's size: open_set.own_thresholds); a run with no more images than
+    t as it ended."""
     if len(run.probs) <= t:
         return run.status == "unknown", run.right
     views = run.energies if score == "energy_mean" else run.prototypes
-    flagged = float(np.mean(views[:t])) > open_set.step_thresholds(thresholds, t)[-1] - size_term
+    flagged = float(np.mean(views[:t])) > open_set.step_thresholds(thresholds, t)[-1]
     return flagged, not flagged and int(np.argmax(run.probs[t - 1])) == run.label
 
 
@@ -73,7 +74,10 @@ def run(ap, args):
     node = RecognizerParameters()  # the node's defaults
     sensing = replace(node.sensing, use_size=False) if args.no_size else node.sensing
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, sensing, node.limits)
-    size_term = (lambda run: open_set.size_term(model, None if args.no_size else run.size))
+
+    def size(run):  # the size the recognizer is told, None where it is not
+        return None if args.no_size else run.size
+
     groups, cuts, costs = {}, {}, {}
     if args.objects < 0:
         ap.error("--objects must be 0 (all) or more")
@@ -87,10 +91,10 @@ def run(ap, args):
             near = np.array([dataset == "real_unknowns" and is_near(test, i) for i in objects])
         runs = camera_runs(core, test, dataset, "test", objects, args.camera, args.seed, root, record=True)
         groups[group] = ([r.status for r in runs], [r.right for r in runs],
-                         np.array([r.score + size_term(r) for r in runs]),
+                         np.array([r.score + open_set.size_term(model, size(r)) for r in runs]),
                          [test.classes[test.items[int(i)][1]] for i in objects])
         costs[group] = {k: round(v, digits) for (k, v), digits in zip(robot_cost(runs).items(), (3, 1, 2, 2))}
-        cuts[group] = {t: np.array([cut(r, t, model.open_set["threshold"], model.open_set["score"], size_term(r))
+        cuts[group] = {t: np.array([cut(r, t, open_set.own_thresholds(model, size(r)), model.open_set["score"])
                                     for r in runs])
                        for t in CUTS}
     (ks, kr, kscore, _), (us, _, uscore, _) = groups["known"], groups["unknown"]

@@ -46,7 +46,19 @@ def test_the_size_term_is_its_weight_times_the_surprise_and_nothing_without_one_
     assert open_set.size_term(SimpleNamespace(size_prior=PRIOR, open_set=None), 0.1) == 0.0
 
 
-def sized_checkpoint(tmp_path, threshold, weight):
+def test_own_thresholds_carry_the_term_with_a_size_and_the_plain_ones_without():
+    """With a size: those fitted with the term, less it; without one (or with no prior): those
+    fitted without the term where the checkpoint has them, else its only ones."""
+    entry = {"threshold": [-2.0, -3.0], "threshold_no_size": [-1.0, -1.5], "size_weight": 2.0}
+    model = SimpleNamespace(size_prior=PRIOR, open_set=entry)
+    term = 2.0 * PRIOR.surprise(0.1)[0]
+    np.testing.assert_allclose(open_set.own_thresholds(model, 0.1), [-2.0 - term, -3.0 - term])
+    assert open_set.own_thresholds(model, None) == [-1.0, -1.5]
+    assert open_set.own_thresholds(SimpleNamespace(size_prior=None, open_set=entry), 0.1) == [-1.0, -1.5]
+    assert open_set.own_thresholds(SimpleNamespace(size_prior=PRIOR, open_set={"threshold": [-2.0]}), 0.1) == [-2.0]
+
+
+def sized_checkpoint(tmp_path, threshold, weight, **extra):
     """procedural.pt with a size prior and an energy_mean open_set of one threshold and `weight`."""
     ckpt = checkpoint.read(checkpoint.shipped("procedural"))
     ckpt.pop("format")
@@ -56,7 +68,7 @@ def sized_checkpoint(tmp_path, threshold, weight):
     path = tmp_path / f"sized_{weight}.pt"
     checkpoint.save(path, {**ckpt, "size_prior": prior.to_dict(), "open_set": {
         "score": "energy_mean", "means": torch.zeros(1, c, s), "threshold": [threshold], "fitted_on": {},
-        "size_weight": weight}})
+        "size_weight": weight, **extra}})
     return path
 
 
@@ -86,21 +98,30 @@ def test_the_recognizer_lowers_its_threshold_by_the_size_term_where_it_uses_the_
     surprise = float(SizePrior(log_median=[0.0], log_scale=[0.2], log_lo=-3.0, log_hi=3.0).surprise(0.1)[0])
     weight = 1.0 / surprise  # a term of 1: past the 0.5 margin
     ends = {}
-    for name, w, use_size in (("no weight", 0.0, True), ("size unused", weight, False), ("size term", weight, True)):
-        core, obs = run(sized_checkpoint(tmp_path, threshold, w), use_size)
+    plain = {"threshold_no_size": [threshold - 1.0]}  # without the size, these: 0.5 above it
+    for name, w, use_size, extra, expected in (
+            ("no weight", 0.0, True, {}, threshold), ("size unused", weight, False, {}, threshold),
+            ("size term", weight, True, {}, threshold - 1.0), ("plain ones", weight, False, plain, threshold - 1.0),
+            ("plain ones unused", weight, True, {"threshold_no_size": [threshold + 5.0]}, threshold - 1.0)):
+        core, obs = run(sized_checkpoint(tmp_path, threshold, w, **extra), use_size)
         assert core.energies == pytest.approx(probe.energies)  # the same images, the same energies
-        expected = threshold - (1.0 if name == "size term" else 0.0)
         assert core.open_set_threshold() == pytest.approx(expected)
         ends[name] = obs.status
-    assert ends == {"no weight": "recognized", "size unused": "recognized", "size term": "unknown"}
+    assert ends == {"no weight": "recognized", "size unused": "recognized", "size term": "unknown",
+                    "plain ones": "unknown", "plain ones unused": "unknown"}
 
 
-@pytest.mark.parametrize("weight", [-0.5, float("nan"), "1"])
-def test_a_checkpoint_with_a_bad_size_weight_is_refused_by_name(tmp_path, weight):
+@pytest.mark.parametrize("weight, extra, message", [
+    (-0.5, {}, "size_weight"), (float("nan"), {}, "size_weight"), ("1", {}, "size_weight"),
+    (1.0, {"threshold_no_size": [-2.0, float("nan")]}, "threshold_no_size"),
+    (1.0, {"threshold_no_size": []}, "threshold_no_size")])
+def test_a_checkpoint_with_a_bad_size_term_is_refused_by_name(tmp_path, weight, extra, message):
     from active_recognition.checkpoint import CheckpointError
 
-    with pytest.raises(CheckpointError, match="size_weight"):
-        checkpoint.load_model(sized_checkpoint(tmp_path, -3.0, weight))
+    with pytest.raises(CheckpointError, match=message):
+        checkpoint.load_model(sized_checkpoint(tmp_path, -3.0, weight, **extra))
+    good = checkpoint.load_model(sized_checkpoint(tmp_path, -3.0, 1.0, threshold_no_size=torch.tensor([-2.0, -2.5])))
+    assert good[0].open_set["threshold_no_size"] == [-2.0, -2.5]
 
 
 def test_the_fit_keeps_the_weight_that_flags_the_most_val_unknowns():
