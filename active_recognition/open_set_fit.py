@@ -23,11 +23,15 @@ the training episodes of a second set of means, are shot through that simulated 
 recognizer's own path (camera_episodes.py), as the node will see them: the thresholds are
 chosen on those, and the means are whichever set tells the val unknowns better. With
 --unknowns real_unknowns the val unknowns are real meshes (datasets/real_unknowns.py) in place
-of the generated ones. The checkpoint is rewritten atomically.
+of the generated ones. With --score energy_mean through a camera, --size-weights W... adds a
+size term to the score, each val episode's weight x the size prior's surprise at its object's size
+(open_set.size_term), the weight that flags the most val unknowns kept and the thresholds fitted
+without it stored beside (for a recognizer not told the size); off by default (docs/training.md).
+The checkpoint is rewritten atomically.
 
     python -m active_recognition.open_set_fit --checkpoint PATH --dataset modelnet --root DIR
         [--objects 600] [--known-rate 0.97] [--camera realsense] [--unknowns real_unknowns
-        --unknowns-root DIR] [--score prototype_mean|energy_mean] [--out PATH]
+        --unknowns-root DIR] [--score prototype_mean|energy_mean] [--size-weights W ...] [--out PATH]
 """
 from __future__ import annotations
 
@@ -49,7 +53,8 @@ from .validation import InputError
 
 FIT_OBJECTS = 600  # training objects whose states the means are fitted on
 KNOWN_RATE = 0.97
-SIZE_WEIGHTS = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)  # the size term's weights tried (energy_mean through a camera)
+SIZE_WEIGHTS = (0.0,)  # the size term's weights tried by default: none (energy_mean through a camera only)
+SIZE_GRID = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)  # a grid to try: --size-weights 0 0.25 0.5 1 2 4
 
 
 def episodes(planner, model, shapes, objects, cfg, fixed_path=None):
@@ -137,7 +142,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
                                                              size, *groups, means, score)
     floor = -np.inf if score == "energy_mean" else 1e-6  # an energy may be of any sign
     weight, plain = 0.0, open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
-    if score == "energy_mean" and size and sizes is not None and model.size_prior is not None:
+    if score == "energy_mean" and any(size_weights) and size and sizes is not None and model.size_prior is not None:
         weight, through["size_weights"] = size_weight(model.size_prior, known, other, sizes, cfg.entropy_threshold,
                                                       known_rate, size_weights)
         known = with_size(known, model.size_prior, sizes["known"], weight)
@@ -252,8 +257,9 @@ def main(argv=None):
         "distance to the class means) or energy_mean (each view's -log sum exp of the logits, for "
         "a model trained with outliers)"))
     ap.add_argument("--size-weights", type=float, nargs="+", default=list(SIZE_WEIGHTS), help=(
-        "energy_mean through a camera, with the objects' sizes: the weights of the size term tried on val "
-        f"(the one that flags the most val unknowns is kept; 0 alone: no size term; default {list(SIZE_WEIGHTS)})"))
+        "energy_mean through a camera, with the objects' sizes: the weights of the size term "
+        "(open_set.size_term) tried on val, the one that flags the most val unknowns kept (default 0: no "
+        f"size term; a grid: {' '.join(f'{w:g}' for w in SIZE_GRID)})"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     args = ap.parse_args(argv)
     try:
