@@ -66,7 +66,11 @@ def real_unknowns(results):
     if d is None:
         return None
     near = d.get("near", {})
-    return {"known": d["objects"]["known"], "unknown": d["objects"]["unknown"],
+    plain = (load(results / "modelnet10" / "size_term.json") or {}).get("test_shipped_without_sizes")
+    nosize = "not measured" if plain is None else (
+        f"a known accuracy of {pct(plain['known_accuracy'])} %, {pct(plain['unknown_flagged'])} % of the unknown "
+        f"objects answered `unknown` at {pct(plain['known_rejected'])} % of the known, AUROC {plain['auroc']:.3f}")
+    return {"known": d["objects"]["known"], "unknown": d["objects"]["unknown"], "nosize": nosize,
             "flagged": pct(d["unknown_flagged"]), "rejected": pct(d["known_rejected"]),
             "accuracy": pct(d["known_accuracy"]), "auroc": f"{d['auroc']:.3f}",
             "score": d.get("score", "prototype_mean"),
