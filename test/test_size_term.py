@@ -141,3 +141,35 @@ def test_the_fit_keeps_the_weight_that_flags_the_most_val_unknowns():
     assert weight == 0.0 and len({row["val_unknown_flagged"] for row in table.values()}) == 1
     with pytest.raises(InputError, match="size_weights"):
         open_set_fit.fit(checkpoint.shipped("procedural"), "procedural", size_weights=(-1.0,))
+
+
+def test_the_fit_stores_the_terms_thresholds_and_the_plain_ones_beside(tmp_path, dataset_cache, monkeypatch):
+    """fit --score energy_mean through a camera with --size-weights: the val episodes' running
+    energies (made up here, through_camera stubbed) plus the chosen weight x surprise give the
+    thresholds; the plain energies give threshold_no_size; the checkpoint stores and loads both."""
+    monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
+    path = sized_checkpoint(tmp_path, -3.0, 0.0)
+    prior = checkpoint.load_model(path)[0].size_prior
+    rng = np.random.default_rng(0)
+    n, steps = 60, 3
+    probs = np.full((n, steps, 10), 0.1)  # never confident: every episode runs to its end
+    known = (probs, open_set.running_mean(rng.normal(-5, 1, (n, steps))))
+    unknown = (probs, open_set.running_mean(rng.normal(-5, 1, (n, steps))))
+    sizes = {"known": np.full(n, 1.0), "unknown": np.full(n, 0.1)}  # every class is about 1 m
+
+    def stub(path, planner, dataset, root, preset, steps, seed, size, train, val, unknown_group, rendered, score):
+        return rendered, known, unknown, {"camera_stubbed": True}, sizes
+
+    monkeypatch.setattr(open_set_fit, "through_camera", stub)
+    entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.9, steps=steps, val_objects=10,
+                             camera="realsense", score="energy_mean", size_weights=(0.0, 1.0))
+    assert entry["size_weight"] == 1.0 and entry["fitted_on"]["size_weights"]["1.0"]["val_unknown_flagged"] > 0.9
+    shifted = open_set_fit.with_size(known, prior, sizes["known"], 1.0)
+    np.testing.assert_allclose(entry["threshold"], open_set.held_thresholds(*shifted, 0.5, 0.9, -np.inf))
+    np.testing.assert_allclose(entry["threshold_no_size"], open_set.held_thresholds(*known, 0.5, 0.9, -np.inf))
+    open_set_fit.store(path, entry, tmp_path / "stored.pt")
+    stored = checkpoint.load_model(tmp_path / "stored.pt")[0].open_set
+    assert stored["size_weight"] == 1.0 and stored["threshold_no_size"] == pytest.approx(entry["threshold_no_size"])
+    plain = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.9, steps=steps, val_objects=10,
+                             camera="realsense", score="energy_mean")  # the default: no size term
+    assert "size_weight" not in plain and "threshold_no_size" not in plain
