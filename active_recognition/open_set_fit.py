@@ -256,7 +256,7 @@ def main(argv=None):
         "the unknown score the thresholds are on: prototype_mean (the default: the state's cosine "
         "distance to the class means) or energy_mean (each view's -log sum exp of the logits, for "
         "a model trained with outliers)"))
-    ap.add_argument("--size-weights", type=float, nargs="+", default=list(SIZE_WEIGHTS), help=(
+    ap.add_argument("--size-weights", type=float, nargs="+", metavar="W", default=list(SIZE_WEIGHTS), help=(
         "energy_mean through a camera, with the objects' sizes: the weights of the size term "
         "(open_set.size_term) tried on val, the one that flags the most val unknowns kept (default 0: no "
         f"size term; a grid: {' '.join(f'{w:g}' for w in SIZE_GRID)})"))
