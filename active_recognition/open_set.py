@@ -207,14 +207,20 @@ def confident(probs, entropy_threshold):
     return -(p * np.log(p)).sum(-1) < entropy_threshold
 
 
+def size_weight(model, size):
+    """The weight of the checkpoint's size term for an object of `size` (metres; None: the size not
+    used): its open_set `size_weight`, 0 where there is no size, no size prior or no weight."""
+    if size is None or model.size_prior is None:
+        return 0.0
+    return (model.open_set or {}).get("size_weight", 0.0)
+
+
 def size_term(model, size):
     """What the object's size adds to an episode's energy_mean before its thresholds are read: the
-    checkpoint's open_set `size_weight` x the size prior's surprise at `size` (metres; size_prior.py),
-    0 where the size is not used (None), the model carries no size prior or the weight is 0."""
-    weight = (model.open_set or {}).get("size_weight", 0.0)
-    if size is None or not weight or model.size_prior is None:
-        return 0.0
-    return float(weight * model.size_prior.surprise(size)[0])
+    size term's weight (size_weight) x the size prior's surprise at `size` (size_prior.py); 0
+    where no term applies."""
+    weight = size_weight(model, size)
+    return float(weight * model.size_prior.surprise(size)[0]) if weight else 0.0
 
 
 def own_thresholds(model, size):
@@ -222,10 +228,10 @@ def own_thresholds(model, size):
     the size not used): those fitted with its size term, less the term; where no term applies
     (no size, no size prior), those fitted without one (`threshold_no_size`, where it has a term)."""
     entry = model.open_set
-    if entry.get("size_weight", 0.0) and size is not None and model.size_prior is not None:
-        term = size_term(model, size)
-        return [t - term for t in entry["threshold"]]
-    return entry.get("threshold_no_size", entry["threshold"])
+    if not size_weight(model, size):
+        return entry.get("threshold_no_size", entry["threshold"])
+    term = size_term(model, size)
+    return [t - term for t in entry["threshold"]]
 
 
 def step_thresholds(threshold, steps):

@@ -141,13 +141,15 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
         means, known, other, through, sizes = through_camera(path, planner, dataset, root, camera, steps, seed,
                                                              size, *groups, means, score)
     floor = -np.inf if score == "energy_mean" else 1e-6  # an energy may be of any sign
-    weight, plain = 0.0, open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
+    thresholds = plain = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
+    weight = 0.0
     if score == "energy_mean" and any(size_weights) and size and sizes is not None and model.size_prior is not None:
-        weight, through["size_weights"] = size_weight(model.size_prior, known, other, sizes, cfg.entropy_threshold,
-                                                      known_rate, size_weights)
+        weight, through["size_weights"] = choose_size_weight(model.size_prior, known, other, sizes,
+                                                             cfg.entropy_threshold, known_rate, size_weights)
         known = with_size(known, model.size_prior, sizes["known"], weight)
         other = with_size(other, model.size_prior, sizes["unknown"], weight)
-    thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
+        if weight:
+            thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
                  "seed": int(seed), "size": bool(size), "known_rate": float(known_rate), "unknowns": unknowns,
                  "score": score,
@@ -169,7 +171,7 @@ def with_size(group, prior, sizes, weight):
     return probs, running + weight * prior.surprise(sizes)[:, None]
 
 
-def size_weight(prior, known, unknown, sizes, entropy_threshold, known_rate, weights=SIZE_WEIGHTS):
+def choose_size_weight(prior, known, unknown, sizes, entropy_threshold, known_rate, weights=SIZE_WEIGHTS):
     """(weight, table): of `weights`, the weight of the size term (open_set.size_term: weight x the
     size prior's surprise at each object's size, added to its running energy) under which the
     recognizer's hold, with thresholds fitted on the known val episodes at `known_rate`, ends the

@@ -36,26 +36,25 @@ class SizePrior:
     weight: float = 0.25  # both chosen on ModelNet10's validation split
     outlier: float = 0.05  # (docs/results/modelnet10/size_prior.json)
 
-    def log_likelihood(self, size):
-        """(B, C) log p(size | class) for sizes (B,) in metres."""
-        size = torch.as_tensor(size, dtype=torch.float64).reshape(-1)
-        if not (torch.isfinite(size).all() and (size > 0).all()):
-            raise InputError(f"object size must be a positive number of metres, got {size.tolist()}")
-        mu = torch.tensor(self.log_median, dtype=torch.float64)
-        sd = torch.tensor(self.log_scale, dtype=torch.float64)
-        z = (size.log()[:, None] - mu) / sd
-        normal = torch.exp(-0.5 * z ** 2) / (sd * math.sqrt(2 * math.pi))
-        return torch.log((1 - self.outlier) * normal + self.outlier / (self.log_hi - self.log_lo))
-
-    def surprise(self, size):
-        """(B,) how unlike every class's sizes each size (metres) is: -max over the classes of the
-        log-normal log-density, the outlier chance left out (the `unknown` answer's size term)."""
+    def log_normal(self, size):
+        """(B, C) each class's log-normal log-density of sizes (B,) in metres, the outlier chance
+        left out; InputError for a size that is not a positive number."""
         size = torch.as_tensor(size, dtype=torch.float64).reshape(-1)
         if not (torch.isfinite(size).all() and (size > 0).all()):
             raise InputError(f"object size must be a positive number of metres, got {size.tolist()}")
         sd = torch.tensor(self.log_scale, dtype=torch.float64)
         z = (size.log()[:, None] - torch.tensor(self.log_median, dtype=torch.float64)) / sd
-        return (0.5 * z ** 2 + torch.log(sd * math.sqrt(2 * math.pi))).min(-1).values.numpy()
+        return -0.5 * z ** 2 - torch.log(sd * math.sqrt(2 * math.pi))
+
+    def log_likelihood(self, size):
+        """(B, C) log p(size | class) for sizes (B,) in metres."""
+        normal = self.log_normal(size).exp()
+        return torch.log((1 - self.outlier) * normal + self.outlier / (self.log_hi - self.log_lo))
+
+    def surprise(self, size):
+        """(B,) how unlike every class's sizes each size (metres) is: -max over the classes of the
+        log-normal log-density, the outlier chance left out (the `unknown` answer's size term)."""
+        return (-self.log_normal(size).max(-1).values).numpy()
 
     def apply(self, probs, size):
         """probs (B, C) x p(size | class)^weight, renormalised (sizes (B,) in metres)."""

@@ -133,11 +133,11 @@ def test_the_fit_keeps_the_weight_that_flags_the_most_val_unknowns():
     known = (probs, open_set.running_mean(rng.normal(-5, 1, (n, steps))))
     unknown = (probs, open_set.running_mean(rng.normal(-5, 1, (n, steps))))
     apart = {"known": np.full(n, 0.5), "unknown": np.full(n, 0.05)}  # the unknowns all far smaller than a class
-    weight, table = open_set_fit.size_weight(PRIOR, known, unknown, apart, 0.5, 0.97, (0.0, 1.0, 4.0))
+    weight, table = open_set_fit.choose_size_weight(PRIOR, known, unknown, apart, 0.5, 0.97, (0.0, 1.0, 4.0))
     assert weight > 0 and table[str(weight)]["val_unknown_flagged"] > 0.9 > 0.1 > table["0.0"]["val_unknown_flagged"]
     assert all(row["val_known_rejected"] <= 0.03 for row in table.values())
     alike = {"known": np.full(n, 0.5), "unknown": np.full(n, 0.5)}
-    weight, table = open_set_fit.size_weight(PRIOR, known, unknown, alike, 0.5, 0.97, (0.0, 1.0, 4.0))
+    weight, table = open_set_fit.choose_size_weight(PRIOR, known, unknown, alike, 0.5, 0.97, (0.0, 1.0, 4.0))
     assert weight == 0.0 and len({row["val_unknown_flagged"] for row in table.values()}) == 1
     with pytest.raises(InputError, match="size_weights"):
         open_set_fit.fit(checkpoint.shipped("procedural"), "procedural", size_weights=(-1.0,))
