@@ -106,6 +106,21 @@ def test_the_tool_rebuilds_one_merged_object_in_metres_and_skips_it_again(tiny, 
     assert re.search(r"test\s+widget\s+0\s+1\s+0", capsys.readouterr().out)
 
 
+def test_a_mirror_that_is_a_clone_serves_as_a_bare_one(tiny, tmp_path, monkeypatch):
+    """fetch may leave a clone (repo/.git) where a bare mirror is expected: its objects are read, nothing
+    downloaded."""
+    clones = tmp_path / "clones"
+    subprocess.run(["git", "clone", "-q", str(tiny["work"]), str(clones / "someone+tiny" / "repo")], check=True)
+    tool = load_tool()
+
+    def offline(*a, **k):
+        raise AssertionError("downloaded although a mirror was there")
+
+    monkeypatch.setattr(tool.urllib.request, "urlopen", offline)
+    assert run(tool, tiny, "--mirrors", str(clones)) == 0
+    assert len(trimesh.load(tiny["out"] / "test" / "widget" / "tiny__thing.ply").faces) == 24
+
+
 def test_a_file_whose_blob_hash_differs_is_refused_and_nothing_written(tiny, capsys, monkeypatch):
     """No mirror: the files are 'downloaded' (urlopen replaced by the work tree's files); the
     manifest's hash of lid.obj is wrong, so the object is refused, naming the file."""

@@ -5,12 +5,13 @@
 
     python tools/fetch_real_unknowns.py --out ~/data/real_unknowns [--mirrors /work/.mirror] [--manifest PATH]
 
-Each file of an object is read from a local bare git mirror, <mirrors>/<owner>+<name>/repo, where
-there is one (git cat-file blob), else downloaded from raw.githubusercontent.com at the manifest's
-commit; its git blob hash must be the manifest's, or the object is refused. The files are loaded
-with trimesh (.dae needs pycollada), scaled by their `unit` into metres and merged, and written as
-one binary PLY, <out>/<split>/<class>/<repository>__<object>.ply, through a temporary file renamed
-into place. Objects already written are skipped. Prints, per split and class, the objects written,
+Each file of an object is read from a local git mirror, <mirrors>/<owner>+<name>/repo (bare, or a
+clone: repo/.git), where there is one (git cat-file blob), else downloaded from
+raw.githubusercontent.com at the manifest's commit; its git blob hash must be the manifest's, or
+the object is refused. The files are loaded with trimesh (.dae needs pycollada), scaled by their
+`unit` into metres and merged, and written as one binary PLY,
+<out>/<split>/<class>/<repository>__<object>.ply, through a temporary file renamed into place.
+Objects already written are skipped. Prints, per split and class, the objects written,
 skipped and failed; exits 1 when any failed. Open the result with
 active_recognition.datasets.real_unknowns.real_unknowns(out, split).
 """
@@ -44,14 +45,24 @@ def git_blob_hash(data: bytes) -> str:
     return hashlib.sha1(b"blob %d\0" % len(data) + data).hexdigest()
 
 
+def mirror_dirs(mirrors, repo):
+    """The git directories a repository's local mirror may be: <mirrors>/<owner>+<name>/repo, bare,
+    or the .git of a clone there."""
+    if mirrors is None:
+        return []
+    repo_dir = mirrors / repo.replace("/", "+") / "repo"
+    return [d for d in (repo_dir, repo_dir / ".git") if (d / "objects").is_dir()]
+
+
 def file_bytes(row, mirrors):
     """The bytes of a manifest row's file, from its repository's local mirror or downloaded;
     Refused when they cannot be had or their git blob hash is not the manifest's."""
-    mirror = mirrors / row["repo"].replace("/", "+") / "repo" if mirrors else None
     data = None
-    if mirror is not None and mirror.is_dir():
+    for mirror in mirror_dirs(mirrors, row["repo"]):
         got = subprocess.run(["git", "--git-dir", str(mirror), "cat-file", "blob", row["blob"]], capture_output=True)
-        data = got.stdout if got.returncode == 0 else None
+        if got.returncode == 0:
+            data = got.stdout
+            break
     if data is None:  # no mirror, or the mirror lacks the blob
         url = RAW.format(repo=row["repo"], commit=row["commit"], path=urllib.parse.quote(row["path"]))
         try:
