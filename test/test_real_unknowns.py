@@ -48,6 +48,10 @@ def test_the_shipped_manifest_is_well_formed_and_its_splits_apart():
     for a, b in (("val", "test"), ("train", "val"), ("train", "test")):
         assert not repos[a] & repos[b] and not blobs[a] & blobs[b], (a, b)
     assert all(len(v) == 1 for v in objects.values())  # one object per output file, one class and near each
+    near_of = defaultdict(set)
+    for r in rows:
+        near_of[r["class"]].add(r["near"])
+    assert all(len(v) == 1 for v in near_of.values())  # near() reads it by class: one value a class
     assert len([r["blob"] for r in rows]) == len({r["blob"] for r in rows})  # no file twice
     assert {"bookshelf", "wardrobe", "bench"} <= near_classes() and "cup" not in near_classes()
 
