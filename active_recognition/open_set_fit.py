@@ -273,7 +273,7 @@ def main(argv=None):
     except InputError as e:
         ap.error(str(e))
     steps = ", ".join(f"{t:.4f}" for t in entry["threshold"])
-    print(f"{args.out or path}: open_set thresholds by views {steps}, size weight {entry['size_weight']}; "
+    print(f"{args.out or path}: open_set thresholds by views {steps}, size weight {entry.get('size_weight', 0.0):g}; "
           f"{entry['fitted_on']}", file=sys.stderr)
 
 

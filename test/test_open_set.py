@@ -359,7 +359,8 @@ def test_an_energy_mean_open_set_reads_the_views_energies(tmp_path):
     assert held["free"].status == "recognized" and held["free"].views == 1
 
 
-def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_path, dataset_cache, monkeypatch):
+def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_path, dataset_cache, monkeypatch,
+                                                                          capsys):
     """fit on a few procedural objects: means (steps, C, S) equal to the class means of states
     recorded anew, a threshold that accepts the asked share of the val objects' end scores, and a
     checkpoint that loads (weights_only) with it."""
@@ -393,6 +394,11 @@ def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_pa
     stored = torch.load(tmp_path / "stored.pt", weights_only=True)["open_set"]
     assert stored["threshold"] == entry["threshold"] and torch.equal(stored["means"], entry["means"])
     assert checkpoint.load_model(tmp_path / "stored.pt")[0].open_set["threshold"] == entry["threshold"]
+    # the command line fits the same (seeded) and says so, with no size term by default
+    open_set_fit.main(["--dataset", "procedural", "--objects", "20", "--known-rate", "0.8", "--steps", "3",
+                       "--val-objects", "10", "--out", str(tmp_path / "main.pt")])
+    assert checkpoint.load_model(tmp_path / "main.pt")[0].open_set["threshold"] == entry["threshold"]
+    assert "size weight 0;" in capsys.readouterr().err
 
 
 def test_open_set_fit_on_energy_mean_holds_thresholds_of_the_val_energies(dataset_cache, monkeypatch):
