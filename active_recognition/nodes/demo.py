@@ -77,7 +77,7 @@ class DemoClient(Node):
         super().__init__("demo", **kwargs)
         self.reset = self.create_client(Trigger, "recognizer/reset")
         self.result, self.arrived = None, threading.Event()
-        self.create_subscription(String, "recognition/result", self.on_result, 10)
+        self.result_topic = self.create_subscription(String, "recognition/result", self.on_result, 10).topic_name
 
     def on_result(self, msg):
         try:
@@ -96,7 +96,10 @@ def spin_until(executor, done, timeout):
 
 
 def recognize(executor, client, timeout=10.0):
-    """One closed-loop episode; returns the recognizer's final result (dict) or None."""
+    """One closed-loop episode; returns the recognizer's final result (dict) or None. Waits first (up
+    to `timeout`) until recognition/result has a publisher: a result sent before discovery matched
+    the subscription is lost (a recognizer just started on a loaded machine)."""
+    spin_until(executor, lambda: client.count_publishers(client.result_topic) > 0, timeout)
     client.arrived.clear()
     future = client.reset.call_async(Trigger.Request())
     if not spin_until(executor, future.done, timeout) or not future.result().success:
