@@ -154,15 +154,22 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
                  "seed": int(seed), "size": bool(size), "known_rate": float(known_rate), "unknowns": unknowns,
                  "score": score,
                  "val_known": len(known[1]), "val_unknown": len(other[1]),
-                 "val_known_rejected": round(float(flagged(*known, cfg.entropy_threshold, thresholds).mean()), 4),
-                 "val_unknown_flagged": round(float(flagged(*other, cfg.entropy_threshold, thresholds).mean()), 4),
-                 "val_auroc": round(open_set.auroc(known[1][:, -1], other[1][:, -1]), 4), "camera": camera,
+                 **val_figures(known, other, cfg.entropy_threshold, thresholds), "camera": camera,
                  **through}
     entry = {"score": score, "means": torch.from_numpy(means),
              "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
     if weight:  # with the size term; the thresholds without it for a recognizer not told the size
         entry |= {"size_weight": float(weight), "threshold_no_size": torch.from_numpy(plain)}
     return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
+
+
+def val_figures(known, unknown, entropy_threshold, thresholds):
+    """How per-step `thresholds` answer the val episodes under the recognizer's hold: the share of
+    known and of unknown ones ended `unknown`, and the AUROC of their last running score; known,
+    unknown: (probs, running score)."""
+    return {"val_known_rejected": round(float(flagged(*known, entropy_threshold, thresholds).mean()), 4),
+            "val_unknown_flagged": round(float(flagged(*unknown, entropy_threshold, thresholds).mean()), 4),
+            "val_auroc": round(open_set.auroc(known[1][:, -1], unknown[1][:, -1]), 4)}
 
 
 def with_size(group, prior, sizes, weight):
@@ -181,10 +188,7 @@ def choose_size_weight(prior, known, unknown, sizes, entropy_threshold, known_ra
     for w in sorted(weights):
         k, u = with_size(known, prior, sizes["known"], w), with_size(unknown, prior, sizes["unknown"], w)
         thresholds = open_set.held_thresholds(*k, entropy_threshold, known_rate, -np.inf)
-        row = {"val_known_rejected": round(float(flagged(*k, entropy_threshold, thresholds).mean()), 4),
-               "val_unknown_flagged": round(float(flagged(*u, entropy_threshold, thresholds).mean()), 4),
-               "val_auroc": round(open_set.auroc(k[1][:, -1], u[1][:, -1]), 4)}
-        table[str(w)] = row
+        table[str(w)] = row = val_figures(k, u, entropy_threshold, thresholds)
         if best is None or row["val_unknown_flagged"] > table[str(best)]["val_unknown_flagged"]:
             best = w
     return float(best), table
