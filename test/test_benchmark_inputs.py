@@ -17,6 +17,7 @@ from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.evaluate import EvalConfig, halves
 
 ROOT = Path(__file__).resolve().parents[1]
+PROCEDURAL = ROOT / "active_recognition/checkpoints/procedural.pt"  # a single network
 
 
 BAD_INPUT = [
@@ -95,6 +96,14 @@ BAD_INPUT = [
      "--ship records what the whole benchmark chose for the shipped model; leave out --planners"),
     ("validation_camera.py", ["--root", "{tmp}", "--ship", "--out", "{tmp}/o"],
      "--ship records the choice beside its committed figures"),
+    ("member_scores.py", ["--root", "{tmp}", "--folds", "0", "--out", "{tmp}/o"],
+     "--val-objects must be 0 (all) or more and --folds at least 1, got 0, 0"),
+    ("member_scores.py", ["--root", "{tmp}", "--val-objects", "5"],
+     "a partial run (--val-objects) would overwrite the committed"),
+    ("member_scores.py", ["--root", "{tmp}", "--checkpoint", "{tmp}/garbage.pt", "--out", "{tmp}/o"],
+     "checkpoint {tmp}/garbage.pt: unreadable"),
+    ("member_scores.py", ["--root", "{tmp}", "--checkpoint", str(PROCEDURAL), "--out", "{tmp}/o"],
+     f"{PROCEDURAL}: not an ensemble"),
     ("camera_robustness.py", ["--workers", "0"], "--workers must be at least 1, got 0"),
     ("camera_robustness.py", ["--rows", "clean"], "a partial run (--rows) would overwrite the committed"),
 ]
