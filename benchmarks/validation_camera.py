@@ -4,10 +4,10 @@
 """The node's planners and `unknown` scores on ModelNet10's validation split as the node meets
 it: every val object shot through a simulated camera and the recognizer's own path
 (SimulatedCamera -> ActiveRecognizer.observe; camera_episodes.py), `--starts` seeded starts each
-(the same for every planner), 10 views without a stop or a hold; the unknowns' val styles
-(datasets/unknowns.py), or with `--unknowns real_unknowns` the real meshes' val split
-(datasets/real_unknowns.py), beside them; the AUROCs compare both groups' first start. Test
-objects are never read.
+(the same for every planner), 10 views without a stop or a hold; the real unknowns' val split
+(datasets/real_unknowns.py, under --unknowns-root), or with `--unknowns unknowns` the generated
+unknowns' val styles (datasets/unknowns.py), beside them; the AUROCs compare both groups' first
+start. Test objects are never read.
 
 Prints, per planner, the accuracy after 3, 6 and 9 views (the closed-set answer) and its mean,
 the paired difference of that mean from the checkpoint's default planner (or --reference's),
@@ -30,7 +30,8 @@ active_recognition.open_set_fit --camera realsense).
 one row each: its group, object, class and `near`, and per view the answer, the prototype score,
 the energy and 1 - the top probability (for choosing another score without shooting them again).
 
-    python benchmarks/validation_camera.py --root ~/data/ModelNet10 [--starts 3] [--objects 0] [--ship]
+    python benchmarks/validation_camera.py --root ~/data/ModelNet10 --unknowns-root ~/data/real_unknowns
+        [--starts 3] [--objects 0] [--ship]
 """
 import argparse
 import csv
@@ -168,7 +169,7 @@ def run(ap, args):
                                      ("--camera", args.camera != "realsense"),
                                      ("--planners", set(args.planners) != set(PLANNERS)),
                                      ("--reference", args.reference),
-                                     ("--unknowns", args.unknowns != "unknowns")) if on]
+                                     ("--unknowns", args.unknowns != "real_unknowns")) if on]
     if args.ship and partial:
         ap.error(f"--ship records what the whole benchmark chose for the shipped model; leave out "
                  f"{', '.join(partial)}")
@@ -230,7 +231,7 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=SEED, help=f"first start's seed (default {SEED})")
     ap.add_argument("--objects", type=int, default=0, help="the first N val objects of each group (0: all)")
     ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
-    add_unknowns_flags(ap)
+    add_unknowns_flags(ap, default="real_unknowns")  # the planner is chosen beside real unknowns
     ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
                     "docs/results/modelnet10/validation_camera.json; a partial run must give it)")
     ap.add_argument("--scores", default=None, metavar="CSV", help="write the default planner's per-view "
