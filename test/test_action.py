@@ -127,13 +127,13 @@ def test_a_second_goal_while_one_runs_is_rejected_or_preempts(loop, policy):
         assert status == GoalStatus.STATUS_ABORTED and result.status == "timeout" or \
             (result.status == "recognized" and result.views == 10)
         return
-    result, status = first.wait(5)
-    assert status == GoalStatus.STATUS_ABORTED and result.status == "canceled"
+    result, status = first.wait()  # at once on a quiet machine; a busy one's executor may take seconds
+    assert status == GoalStatus.STATUS_ABORTED and result.status == "canceled", (status, result)
     result, status = second.wait()
     # rclpy's client drops feedback that comes before it has read the goal's acceptance (a busy
     # machine's race), so the first may be missing; what comes is in order and ends at the result
     seen = [f.views for f in second.feedback]
-    assert result.views == 2 and seen in ([1, 2], [2])
+    assert result.views == 2 and seen in ([1, 2], [2]), (status, result, seen)
 
 
 def test_the_goals_fields_set_the_frame_the_size_and_the_views(loop):
