@@ -96,8 +96,8 @@ def paired_halves(known, unknown, base, other, folds, rng):
     for _ in range(folds):
         ka, kb = np.array_split(rng.permutation(len(known[base])), 2)
         ua, ub = np.array_split(rng.permutation(len(unknown[base])), 2)
-        z = {n: (known[n][ka][np.isfinite(known[n][ka])].mean(), known[n][ka][np.isfinite(known[n][ka])].std() or 1.0)
-             for n in (base, other)}
+        finite = {n: known[n][ka][np.isfinite(known[n][ka])] for n in (base, other)}
+        z = {n: (v.mean(), v.std() or 1.0) for n, v in finite.items()}
         mix = lambda g, idx, w: ((g[base][idx] - z[base][0]) / z[base][1]  # noqa: E731
                                  + w * np.nan_to_num((g[other][idx] - z[other][0]) / z[other][1], posinf=1e6))
         w = max(WEIGHTS, key=lambda w: open_set.auroc(mix(known, ka, w), mix(unknown, ua, w)))
@@ -144,12 +144,11 @@ def main(argv=None):
             groups[g] = per_view(member_logits(model, runs), judges)
         near = (np.array([is_near(odd, i) for i in range(len(groups["unknown"]["judge_energy"]))])
                 if args.unknowns == "real_unknowns" else np.zeros(0, bool))
-    k = {n: running(v, STEPS) for n, v in groups["known"].items()}
-    u = {n: running(v, STEPS) for n, v in groups["unknown"].items()}
+    at = {t: tuple({n: running(v, t) for n, v in groups[g].items()} for g in ("known", "unknown")) for t in AT}
+    k, u = at[STEPS]
     table = {}
     for name in groups["known"]:
-        table[name] = {"auroc": [round(open_set.auroc(running(groups["known"][name], t),
-                                                      running(groups["unknown"][name], t)), 4) for t in AT]}
+        table[name] = {"auroc": [round(open_set.auroc(at[t][0][name], at[t][1][name]), 4) for t in AT]}
         if near.any():
             table[name]["auroc_near"] = round(open_set.auroc(k[name], u[name][near]), 4)
         if name != "judge_energy":
