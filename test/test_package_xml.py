@@ -33,7 +33,11 @@ def rosdep(tmp_path_factory):
         f"yaml file://{DATA / 'rosdistro_python.yaml'}\n")
     env = {**os.environ, "ROSDEP_SOURCE_PATH": str(home / "sources.list.d"), "ROS_HOME": str(home),
            "ROSDISTRO_INDEX_URL": f"file://{DATA / 'index-v4.yaml'}", "ROS_DISTRO": "jazzy",
-           "ROS_PYTHON_VERSION": "3"}
+           "ROS_PYTHON_VERSION": "3",
+           # a fresh machine's: nothing installed from source (--ignore-src skips the keys of the
+           # packages found on AMENT_PREFIX_PATH, and the set-up registers the venv's ROS wheels)
+           "AMENT_PREFIX_PATH": str(home / "empty")}
+    (home / "empty").mkdir()
     exe = Path(sys.executable).with_name("rosdep")
 
     def run(*args):

@@ -15,27 +15,45 @@
 # sources, the same Python) is skipped, and so is one that imports and was not built here (a ROS
 # install). Needs cmake (>= 3.21) and a C and C++ compiler.
 #
-# Then tf2 (tf2, tf2_msgs, tf2_py, tf2_ros_py: no wheel holds them; `pose_source: tf` needs
-# tf2_ros) from ROS 2 Jazzy's geometry2 sources, with colcon, into the same prefix: from the
-# checkout --geometry2 DIR names, else from ../shared/deps/geometry2-jazzy-tf2.tar.gz beside
-# this repository; skipped when tf2_ros imports already (a ROS install), and said so when no
-# source can be had (the node runs on `pose_source: topic` without it).
+# Then, with colcon, from ROS 2 Jazzy's sources (no wheel holds them), into the same prefix:
+#  - tf2 (tf2, tf2_msgs, tf2_py, tf2_ros_py; `pose_source: tf` needs tf2_ros): from the checkout
+#    of ros2/geometry2 (branch jazzy) that --geometry2 names, else ../shared/deps/geometry2-jazzy-tf2.tar.gz;
+#  - the `ros2` command line and `ros2 launch` (ros2cli, launch, launch_ros, rosidl_runtime_py,
+#    composition_interfaces): from the folder or archive --ros2cli names, else
+#    ../shared/deps/ros2-jazzy-cli-launch.tar.gz.
+# Each is built into a staging folder and copied into the prefix only once it built whole; a
+# stamp written last says it is complete. Skipped when up to date, or when it imports from
+# outside this prefix (a ROS install: it keeps its own); said so, and the rest goes on, when no
+# source can be had.
+# Last, this package is registered in the prefix's ament index (tools/register_package.sh), and
+# the prefix becomes AMENT_PREFIX_PATH of every Python the environment starts where none is set, so that
+# `ros2 run active_recognition recognizer` and `ros2 launch active_recognition ...` find it with
+# the venv activated and nothing else sourced.
 #
-#   bash tools/build_interfaces.sh [--force] [--geometry2 DIR]
+#   bash tools/build_interfaces.sh [--force] [--check] [--geometry2 DIR|ARCHIVE] [--ros2cli DIR|ARCHIVE]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 python=${PYTHON:-python3}
+builds=${BUILD_INTERFACES_DIR:-$root/build}  # the build folders (and their logs)
 force=0
-geometry2=""
-archive=$root/../shared/deps/geometry2-jazzy-tf2.tar.gz
+deps=$root/../shared/deps
+geometry2=$deps/geometry2-jazzy-tf2.tar.gz
+ros2cli=$deps/ros2-jazzy-cli-launch.tar.gz
+check=0  # --check: say what is out of date, build nothing, exit 1 if anything is
+usage="usage: $0 [--force] [--check] [--geometry2 DIR|ARCHIVE] [--ros2cli DIR|ARCHIVE]"
+# source FLAG PATH: PATH as an absolute path, if it is a folder or a file (an archive)
+source_path() {
+  [ -n "$2" ] || { echo "build_interfaces: $1 needs a folder or an archive ($usage)" >&2; exit 2; }
+  [ -e "$2" ] || { echo "build_interfaces: $1 $2: no such folder or archive" >&2; exit 2; }
+  echo "$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"
+}
 while [ $# -gt 0 ]; do
   case $1 in
     --force) force=1 ;;
-    --geometry2) [ $# -ge 2 ] || { echo "build_interfaces: --geometry2 needs a folder" >&2; exit 2; }
-                 geometry2=$(cd "$2" 2>/dev/null && pwd) \
-                   || { echo "build_interfaces: --geometry2 $2: no such folder" >&2; exit 2; }
-                 shift ;;
-    *) echo "build_interfaces: unknown argument '$1' (usage: $0 [--force] [--geometry2 DIR])" >&2; exit 2 ;;
+    --check) check=1 ;;
+    --geometry2) geometry2=$(source_path "$1" "${2:-}"); shift ;;
+    --ros2cli) ros2cli=$(source_path "$1" "${2:-}"); shift ;;
+    *) echo "build_interfaces: unknown argument '$1' ($usage)" >&2; exit 2 ;;
   esac
   shift
 done
@@ -51,11 +69,18 @@ fi
 # share/<pkg>/cmake and the ament index in the prefix, and the packages built here go there too)
 export AMENT_PREFIX_PATH=$prefix${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}
 export CMAKE_PREFIX_PATH=$prefix${CMAKE_PREFIX_PATH:+:$CMAKE_PREFIX_PATH}
+stale=0  # with --check: something is out of date
+# out_of_date NAME: with --check, say NAME would be built (true: do not build it); else false
+out_of_date() {
+  [ "$check" = 1 ] || return 1
+  echo "build_interfaces: $1 is out of date in $prefix (bash tools/build_interfaces.sh builds it)"
+  stale=1
+}
 rebuilt=0  # a package built in this run: those after it, which use it, are built again too
 
 # build NAME MODULE: interfaces/NAME into the prefix, unless up to date or installed elsewhere
 build() {
-  local name=$1 module=$2 src=$root/interfaces/$1 build=$root/build/$1
+  local name=$1 module=$2 src=$root/interfaces/$1 build=$builds/$1
   local stamp=$prefix/share/$name/active_recognition.stamp log=$build/build.log sum where start
   sum=$( (cd "$src" && find . -type f | sort | xargs cat; cat "$root"/tools/interfaces_wheels.cmake \
           "$root"/tools/build_interfaces.sh; "$python" -VV) | sha256sum | cut -d' ' -f1)
@@ -68,6 +93,7 @@ build() {
     echo "build_interfaces: $name is installed already ($where); nothing to build"
     return
   fi
+  out_of_date "$name" && return
   command -v cmake >/dev/null || { echo "build_interfaces: needs cmake (>= 3.21)" >&2; exit 1; }
   rm -rf "$build" && mkdir -p "$build"
   start=$(date +%s)
@@ -88,47 +114,71 @@ build() {
 build vision_msgs vision_msgs.msg
 build active_recognition_interfaces active_recognition_interfaces.action
 
-# tf2 from geometry2's sources (a checkout, else the archive), with colcon, merged into the prefix
-build_tf2() {
-  local build=$root/build/tf2 stamp=$prefix/share/tf2_ros_py/active_recognition.stamp sum start src
-  if [ -n "$geometry2" ]; then
-    src=$geometry2
-  elif [ -f "$archive" ]; then
-    src=$archive
-  fi
-  if [ ! -f "$stamp" ] && "$python" -c "import tf2_ros" 2>/dev/null; then
-    echo "build_interfaces: tf2_ros is installed already; nothing to build"
+# colcon_build NAME SOURCE MODULE HOW [PACKAGE...]: the colcon packages under SOURCE (a folder or
+# a .tar.gz; PACKAGEs alone where named), built into a staging folder and copied into the prefix
+# once all built; the stamp, written last, holds a checksum of the sources, this script and the
+# Python. MODULE imports when it is there; HOW says what it is for, where it cannot be built.
+colcon_build() {
+  local name=$1 src=$2 module=$3 how=$4 build=$builds/$1 sum start where failed
+  shift 4
+  local select=()
+  [ $# = 0 ] || select=(--packages-select "$@")
+  local stamp=$prefix/share/$name/active_recognition.stamp
+  where=$("$python" -c "import $module as m; print(m.__file__)" 2>/dev/null || true)
+  if [ ! -f "$stamp" ] && [ -n "$where" ] && [ "${where#"$prefix"/}" = "$where" ]; then
+    echo "build_interfaces: $name is installed already ($where); nothing to build"
     return
   fi
-  if [ -z "${src:-}" ]; then
-    echo "build_interfaces: tf2 not built: no geometry2 source (--geometry2 DIR, a checkout of" \
-         "ros2/geometry2 branch jazzy, or $archive); pose_source: tf needs it"
+  if [ ! -e "$src" ]; then
+    echo "build_interfaces: $name not built: no source ($src is missing); $how"
     return
   fi
-  sum=$( (if [ -d "$src" ]; then (cd "$src" && find tf2 tf2_msgs tf2_py tf2_ros_py -type f | sort | xargs cat); \
+  sum=$( (if [ -d "$src" ]; then (cd "$src" && find . -type f -not -path '*/.git/*' | sort | xargs cat); \
           else cat "$src"; fi; cat "$root"/tools/build_interfaces.sh; "$python" -VV) | sha256sum | cut -d' ' -f1)
-  if [ "$force" = 0 ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$sum" ] && "$python" -c "import tf2_ros" 2>/dev/null; then
-    echo "build_interfaces: tf2 up to date in $prefix"
+  if [ "$force" = 0 ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$sum" ] && [ -n "$where" ]; then
+    echo "build_interfaces: $name up to date in $prefix"
     return
   fi
+  out_of_date "$name" && return
   local colcon
   colcon=$(dirname "$executable")/colcon
-  [ -x "$colcon" ] || { echo "build_interfaces: tf2 needs colcon (pip install -e '.[ros,test]')" >&2; exit 1; }
+  [ -x "$colcon" ] || { echo "build_interfaces: $name needs colcon (pip install -e '.[ros,test]')" >&2; exit 1; }
   rm -rf "$build" && mkdir -p "$build/src"
   if [ -d "$src" ]; then
-    cp -r "$src"/tf2 "$src"/tf2_msgs "$src"/tf2_py "$src"/tf2_ros_py "$build/src/"
-  else
-    tar xzf "$src" -C "$build/src"
+    cp -r "$src"/. "$build/src/"
+  elif ! tar xzf "$src" -C "$build/src" 2>"$build/tar.log"; then
+    echo "build_interfaces: $name failed: $src is not a readable .tar.gz ($(head -1 "$build/tar.log"))" >&2
+    exit 1
   fi
   start=$(date +%s)
   (cd "$build" && "$colcon" --log-base log build --base-paths src --build-base colcon \
-     --packages-select tf2_msgs tf2 tf2_py tf2_ros_py --merge-install --install-base "$prefix" \
+     "${select[@]}" --merge-install --install-base stage \
      --cmake-args -DCMAKE_BUILD_TYPE=Release -DBUILD_TESTING=OFF -DPython3_EXECUTABLE="$executable" \
        -DCMAKE_PROJECT_INCLUDE="$root/tools/interfaces_wheels.cmake" >build.log 2>&1) \
-    || { tail -40 "$build/build.log" >&2; echo "build_interfaces: tf2 failed; the log: $build/build.log" >&2; exit 1; }
+    || { failed=$(grep -o 'Failed *<<< [^ ]*' "$build/build.log" | sed 's/.*<<< //' | paste -sd, || true)
+         echo "build_interfaces: $name failed to build (${failed:-colcon}); nothing was installed; the log:" \
+              "$build/build.log" >&2
+         exit 1; }
+  [ -d "$build/stage/share/$name" ] \
+    || { echo "build_interfaces: $name failed: $src holds no package $name" >&2; exit 1; }
+  # bytecode names the staging folder; Python writes its own in the prefix
+  find "$build/stage" -name __pycache__ -type d -prune -exec rm -rf {} +
+  rm -f "$stamp"
+  for part in bin include lib share; do
+    [ ! -d "$build/stage/$part" ] || cp -a "$build/stage/$part" "$prefix/"
+  done
+  "$python" -c "import $module" \
+    || { echo "build_interfaces: $name built, but $module does not import" >&2; exit 1; }
   echo "$sum" >"$stamp"
-  "$python" -c "import tf2_ros" || { echo "build_interfaces: tf2 built, but tf2_ros does not import" >&2; exit 1; }
-  echo "build_interfaces: tf2 built in $(($(date +%s) - start)) s into $prefix"
+  echo "build_interfaces: $name built in $(($(date +%s) - start)) s into $prefix"
 }
 
-build_tf2
+colcon_build tf2_ros_py "$geometry2" tf2_ros \
+  "pose_source: tf needs it (--geometry2 DIR: a checkout of ros2/geometry2, branch jazzy)" \
+  tf2_msgs tf2 tf2_py tf2_ros_py
+colcon_build ros2cli "$ros2cli" ros2cli.cli \
+  "the ros2 command line and ros2 launch need it (--ros2cli DIR: the checkouts that $deps/README.md names)"
+if [ "$check" = 1 ]; then
+  exit "$stale"
+fi
+bash "$root/tools/register_package.sh"

@@ -186,6 +186,7 @@ def run_node(node_class, args=None, name=None, params=None):
 
     from active_recognition.validation import InputError
 
+    interrupt_once()
     try:
         rclpy.init(args=args)
     except Exception as e:  # RCLError: a --params-file that is missing or not YAML, a bad --ros-args
@@ -209,3 +210,22 @@ def run_node(node_class, args=None, name=None, params=None):
             node.destroy_node()
         rclpy.try_shutdown()
     return 0
+
+
+def interrupt_once():
+    """Ctrl-C raises KeyboardInterrupt once (the main thread only); later SIGINTs are ignored.
+    Ctrl-C on `ros2 launch` reaches its nodes twice, from the terminal and again from launch, and
+    the second would otherwise break the node's clean-up. Installed before rclpy.init, whose own
+    handler (it wakes the executor) then hands each SIGINT on to this one; SIGTERM still ends it."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return
+    seen = []
+
+    def on_interrupt(signum, frame):
+        if not seen:
+            seen.append(signum)
+            raise KeyboardInterrupt
+    signal.signal(signal.SIGINT, on_interrupt)
