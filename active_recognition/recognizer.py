@@ -387,4 +387,3 @@ class ActiveRecognizer:
         entropy = float(self.episode.entropies[-1][0]) if probs is not None else None
         return Observation(status, probs, label, entropy, self.view, self.done,
                            self.episode.steps, self.view, 0.0)
-

@@ -4,9 +4,9 @@
 """The recognizer's loop (controller.Controller) without rclpy, on a simulated clock: the shipped
 procedural model and the simulated camera's core answer its requests, and each test asserts the
 commands it issues and the status its episode ends with."""
-from conftest import sure_or_not
 import numpy as np
 import pytest
+from conftest import sure_or_not
 
 from active_recognition import geometry
 from active_recognition.checkpoint import shipped

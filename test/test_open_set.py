@@ -6,10 +6,10 @@ numpy on a toy Gaussian, AUROC against a brute-force pair count, FPR@95 on a han
 the recorder against a plain rollout."""
 import re
 
-from conftest import sure_or_not
 import numpy as np
 import pytest
 import torch
+from conftest import sure_or_not
 
 from active_recognition import open_set, open_set_fit
 from active_recognition.validation import InputError

@@ -7,10 +7,10 @@ views found unreachable never asked for again, the simulated floor, and the phys
 every input of the recognizer is checked against."""
 import math
 
-from conftest import sure_or_not
 import numpy as np
 import pytest
 import torch
+from conftest import sure_or_not
 
 from active_recognition import geometry, plausible
 from active_recognition.datasets.twins import make_shape

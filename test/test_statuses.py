@@ -23,7 +23,7 @@ def camera():
 
 
 def episode(core, camera, confidence=None):
-    """The last Observation of one seeded episode (confidence: the core's, else this)."""
+    """The last Observation of one seeded episode, under the core's confidence or the one given."""
     core.rng = np.random.default_rng(0)
     core.reset()
     if confidence is not None:

@@ -163,7 +163,8 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
             unsure += result["status"] == "unsure"
             rows.append((ok, result["views"], ms, result["robot_seconds"]))
             out(f"object {n + 1}/{len(order)}: true={truth:<12} predicted={result['label']:<12} "
-                f"p={result['probability']:.2f}{' (unsure)' if result['status'] == 'unsure' else ''} views={result['views']:<2} robot={result['robot_seconds']:.1f} s "
+                f"p={result['probability']:.2f}{' (unsure)' if result['status'] == 'unsure' else ''} "
+                f"views={result['views']:<2} robot={result['robot_seconds']:.1f} s "
                 f"time={ms:.0f} ms {'ok' if ok else 'WRONG'}")
         if recorder is not None:  # the last episode's end may still be on its way to the file
             spin_until(executor, lambda: recorder.quiet(0.25), 3.0)
