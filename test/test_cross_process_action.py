@@ -22,8 +22,6 @@ from action_msgs.srv import CancelGoal
 
 from conftest import import_ros, load_benchmark, need_vision_msgs
 
-from active_recognition.episode import least_top_score
-
 rclpy = import_ros("rclpy")
 need_vision_msgs()
 from geometry_msgs.msg import PoseStamped  # noqa: E402
@@ -34,6 +32,7 @@ from rclpy.parameter_client import AsyncParameterClient  # noqa: E402
 import msg_adapters as ma  # noqa: E402
 from active_recognition.checkpoint import shipped  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
+from active_recognition.episode import least_top_score  # noqa: E402
 from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
 from active_recognition.simulated_camera import sensor_config  # noqa: E402
 
