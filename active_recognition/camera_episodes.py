@@ -22,6 +22,9 @@ import numpy as np
 from .simulated_camera import SimulatedCamera, sensor_config
 
 SIZES = (0.3, 3.0)  # metres the objects are shown within
+# the statuses that name a class as the answer (unsure: below the node's confidence, its best guess
+# read as before it had a status of its own); unknown and the failures count as wrong
+ANSWERED = ("recognized", "unsure")
 
 
 @dataclass
@@ -88,7 +91,7 @@ def camera_runs(core, ds, name, split, objects, preset, seed, root=None, record=
         label = ds.items[int(i)][1]
         truth, scores = ds.classes[label], core.open_set_scores()
         runs.append(CameraRun(obs.status if obs is not None else "no_image", label,
-                              obs is not None and obs.status == "recognized" and obs.label == truth,
+                              obs is not None and obs.status in ANSWERED and obs.label == truth,
                               float(np.mean(scores)) if scores else float("nan"),
                               probs, states, list(core.energies), list(core.prototypes), core.views_taken(), size))
     return runs

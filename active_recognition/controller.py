@@ -26,49 +26,11 @@ from .geometry import Intrinsics, travel
 from .health import Health
 from .recognizer import SensingConfig
 from .robot_time import RobotTime
-from .validation import InputError, checks, option, validate
+from .timing import Timing
+from .validation import InputError, checks
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
 IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
-
-
-@dataclass
-class Timing:
-    """How the loop waits: node parameters (node_params nests them), all but one changeable at
-    run time."""
-
-    require_fresh_images: bool = option(True, help="ignore images stamped before the last "
-                                                   "next_view request")
-    pose_tolerance: float = option(0.05, lo=0, hi=60, runtime=True, help=(
-        "seconds: the camera pose nearest an image's stamp within this is its pose"))
-    # measured (docs/results/pose_wait.json): a reliable pose lost beside a large frame comes
-    # again at its writer's next heartbeat, 3 s with Fast DDS's defaults
-    pose_wait: float = option(3.5, lo=0, hi=60, runtime=True, help=(
-        "seconds an image waits for its measured pose (camera/pose, or its transform with "
-        "pose_source: tf); after it the image is taken at the view asked for (topic) or refused (tf)"))
-    view_timeout: float = option(3.0, lo=0.01, hi=3600, runtime=True, help=(
-        "seconds: a next_view that no usable image answers within this is sent again"))
-    max_retries: int = option(1, lo=0, hi=100, runtime=True, help=(
-        "resends of one view; when they go unanswered too the view is unreachable and the "
-        "planner picks another"))
-    max_clock_offset: float = option(5.0, lo=0.001, hi=86400, runtime=True, help=(
-        "seconds: images and poses stamped further than this from the node's clock are refused "
-        "(another clock; a replay without use_sim_time)"))
-    time_budget: float = option(0.0, lo=0, hi=86400, runtime=True, help=(
-        "robot seconds an episode may spend on views (captures, settles, travel: the cost model "
-        "capture_s, settle_s, rad_per_s); the episode answers with what it has before the next "
-        "view would overrun it; 0 = no budget"))
-    # chosen on val through the camera (docs/results/modelnet10/seconds_validation.json): with a
-    # budget, the strict stop is the most accurate within 4, 8 and 12 s; without one, 0.5 halves the seconds
-    budget_entropy_threshold: float = option(0.1, lo=0, hi=10, runtime=True, help=(
-        "nats: an episode with a time budget stops when its answer's entropy falls below this "
-        "(the budget, not a looser stop, keeps it short), in place of entropy_threshold"))
-    episode_timeout: float = option(60.0, lo=0.1, hi=86400, runtime=True, help=(
-        "seconds: an episode still under way this long after its start ends with status "
-        "timeout and the best guess so far (60 s: each of 10 views taking both its tries of 3 s)"))
-
-    def __post_init__(self):
-        validate(self)
 
 
 @dataclass
@@ -110,6 +72,7 @@ class Controller:
         self.require_pose = False               # an image without its measured pose is refused (TF)
         self.pose_from = "camera/pose"          # where the poses come from, for the refusals
         self.pending, self.request = None, None  # Pending; the request's stamp
+        self.unposed = None                     # why the view's latest image had no transform (TF)
         self.asked_at, self.tries = None, 0     # when the view was (last) asked for; how often
         self.started = self.paused_at = None
         self.paused_for, self.resumed_state = 0.0, None
@@ -175,17 +138,21 @@ class Controller:
         return []
 
     def pose(self, now, frame, stamp, position, rotation):
-        """A camera pose in `frame`, stamped `stamp`: kept, and an image waiting for it goes on."""
+        """A camera pose in `frame`, stamped `stamp` (from camera/pose, or TF's): kept, and an image
+        waiting for it goes on."""
+        name = "TF's camera transform" if self.require_pose else "camera/pose"
         try:
             if frame != self.frame:
                 raise InputError(f"camera/pose header.frame_id {frame!r} is not the object frame "
                                  f"{self.frame!r} (parameter frame_id, or the goal's object_frame)")
-            stamp = plausible.check_clock(stamp, now, self.timing.max_clock_offset, "camera/pose")
-            plausible.check_camera_position(position)
+            stamp = plausible.check_clock(stamp, now, self.timing.max_clock_offset, name)
+            plausible.check_camera_position(position, name)
             size = self.core.sensing.object_size
-            plausible.check_outside_box(position, self.core.centre * size, size)
+            plausible.check_outside_box(position, self.core.centre * size, size, name)
         except ValueError as e:
-            return [Refuse("camera/pose", f"camera/pose refused: {e}")]
+            if self.require_pose:  # the image waiting for it is refused by this name at pose_wait
+                self.pose_from = f"usable transform from TF (the one for its stamp was refused: {e})"
+            return [Refuse("camera/pose", f"{name} refused: {e}")]
         self.poses.append((stamp, np.asarray(position, float), np.asarray(rotation, float)))
         self.expect_poses = True
         if self.state == CLASSIFYING:
@@ -242,13 +209,15 @@ class Controller:
             return []
         out = []
         if self.state == CLASSIFYING and now - self.pending.since > self.timing.pose_wait:
-            found = self.pose_at(self.pending.stamp, final=True)
+            # with TF, its transform at the stamp or none: never a kept pose of an earlier image
+            found = None if self.require_pose else self.pose_at(self.pending.stamp, final=True)
             self.waited.append(now - self.pending.since)  # in vain, unless a near pose will do
             if found is None and self.require_pose:
                 self.pending, self.state = None, WAITING
                 self.counts["unmatched"] += 1
-                out += self.reject(now, f"no {self.pose_from} for its stamp within pose_wait "
-                                        f"({self.timing.pose_wait:g} s)")
+                self.unposed = f"no {self.pose_from} for its stamp within pose_wait ({self.timing.pose_wait:g} s)"
+                self.health.unposed_image(now, self.unposed)
+                out += self.reject(now, self.unposed)
             elif not self.poses:
                 self.expect_poses = False
                 self.note("pose", "no camera/pose received: assuming each image is taken at the "
@@ -268,6 +237,15 @@ class Controller:
                                                  f"timeout"))
             return out + [self.end(now, self.core.time_out())]
         return out + self.check_view(now)
+
+    def frame_missing(self, now, why):
+        """TF has never had the episode's object frame (`why` says which): past pose_wait from
+        the episode's start, it ends with no_frame."""
+        if not self.running or self.state == PAUSED or self.elapsed(now) <= self.timing.pose_wait:
+            return []
+        self.pending = None
+        return [Refuse("no_frame", f"{why} within pose_wait ({self.timing.pose_wait:g} s) of the episode's "
+                                   f"start: it ends with no_frame"), self.end(now, self.core.so_far("no_frame"))]
 
     def report(self, now, active=True, state="active"):
         """(level, message, values) of the loop for /diagnostics: its health, counts and timing."""
@@ -304,7 +282,7 @@ class Controller:
         """The request for the core's next view (`again`: the same one once more)."""
         position, rotation = self.core.requested_pose(self.k)
         if not again:  # an answer to any try of this view is fresh
-            self.request, self.tries = now, 0
+            self.request, self.tries, self.unposed = now, 0, None
         self.tries += 1
         self.asked_at = now
         return AskView(position, rotation, self.frame, now, again)
@@ -327,7 +305,7 @@ class Controller:
 
     def classify(self, now, found):
         """The waiting image through the core, with its pose (None: the view asked for)."""
-        p, self.pending, self.state = self.pending, None, WAITING
+        p, self.pending, self.state, self.unposed = self.pending, None, WAITING, None
         try:
             obs = self.core.observe(p.metres, p.k, *(found or (None, None)))
         except InputError as e:  # the image itself (its shape); a bug elsewhere is not an input
@@ -360,6 +338,8 @@ class Controller:
                 now - self.asked_at < self.timing.view_timeout:
             return []
         view = "({:.0f}, {:.0f}) deg".format(*np.degrees(self.core.view))
+        if self.unposed:  # the camera answered: TF did not
+            view += f" (its images came, but TF had no transform for them: {self.unposed})"
         if self.tries <= self.timing.max_retries:
             self.counts["resent"] += 1
             return [Refuse("view_timeout", f"no usable image for view {view} within view_timeout "

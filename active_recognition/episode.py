@@ -33,8 +33,11 @@ Forward = Callable[[torch.Tensor, torch.Tensor, torch.Tensor],
 class EpisodeConfig:
     max_views: int = option(10, lo=1, hi=MAX_VIEWS, help="stop after this many views")
     # the harness's (the paper's benchmark); the node's own defaults are ROBOT below
-    entropy_threshold: float = option(0.1, lo=0, help="stop once the entropy of the class "
-                                                      "probabilities (nats) is below this; 0 = never early")
+    entropy_threshold: float = option(0.1, lo=0, help=(
+        "stop once the entropy of the class probabilities (nats) is below this; 0 = never early. "
+        "The recognizer node's confidence: the least top probability such an answer has "
+        "(least_top_score; vision_msgs LabelInfo's threshold) is the one below which an episode "
+        "stopped otherwise (max_views, time_budget, no view left) ends unsure"))
     travel_cost: float = option(0.0, lo=0, hi=100, help=(
         "what a candidate view's travel costs the imitation planner: FC_view's log-score less this "
         "x the great-circle angle (radians) from the current view; 0 = the best-scored view "
@@ -347,3 +350,22 @@ def run(episode: Episode, cameras, initial_views, steps=None, rule=None, reducti
         depth = render_views(view.double(), cameras, rule or "paper", reduction).float()
         out.append(episode.step(depth if corrupt is None else corrupt(depth)))
     return out
+
+
+def least_top_score(entropy_threshold, n_classes):
+    """The smallest top probability a distribution over `n_classes` can have with an entropy
+    (nats) below `entropy_threshold`: the score a recognised class has at least (vision_msgs
+    LabelInfo's threshold). The least entropy at top probability p puts p on floor(1/p) classes
+    and the rest on one; it falls as p grows, so p is found by bisection."""
+    def least_entropy(p):
+        k = math.floor(1 / p)
+        rest = max(1.0 - k * p, 0.0)
+        return -k * p * math.log(p) - (rest * math.log(rest) if rest > 0 else 0.0)
+
+    lo, hi = 1.0 / n_classes, 1.0
+    if entropy_threshold >= least_entropy(lo):
+        return lo
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if least_entropy(mid) < entropy_threshold else (mid, hi)
+    return hi

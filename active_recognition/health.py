@@ -6,6 +6,9 @@
 Counts what happens (frames in, frames refused, steps and their latency, episodes by status) on
 a monotonic clock the caller passes in, and decides the level:
 - ERROR while the model is not loaded (configure failed: `error` says why);
+- WARN when the latest image was refused for want of its transform (pose_source tf), ERROR from
+  UNPOSED_ERROR of them in a row, no image classified between (within WINDOW_S of the latest):
+  TF, not the camera, is named, with the frames;
 - WARN during an episode when no image has come within view_timeout (the camera is silent), or
   when more than REFUSED_SHARE of the frames of the last WINDOW_S seconds were refused (at least
   MIN_FRAMES of them came);
@@ -22,6 +25,7 @@ WINDOW_S = 10.0       # seconds: rates, latency and the refused share are over t
 REFUSED_SHARE = 0.5   # WARN when more than this share of the window's frames were refused ...
 MIN_FRAMES = 5        # ... and at least this many frames came in it
 MAX_EVENTS = 100_000  # kept per kind within the window, whatever the frame rate
+UNPOSED_ERROR = 3     # ERROR from so many images in a row refused for want of a transform (fewer: WARN)
 
 
 class Health:
@@ -34,6 +38,7 @@ class Health:
         self.last_frame = None
         self.episode_since = None                 # start of the episode under way, else None
         self.error = None                         # why the node cannot work, else None
+        self.unposed = (0, None, None)            # images in a row refused for want of a transform: (n, last time, why)
 
     def frame(self, now):
         self.frames.append(now)
@@ -44,6 +49,11 @@ class Health:
 
     def step(self, now, ms):
         self.steps.append((now, ms))
+        self.unposed = (0, None, None)
+
+    def unposed_image(self, now, why):
+        """An image refused for want of its transform (pose_source tf): `why` names the frames."""
+        self.unposed = (self.unposed[0] + 1, now, why)
 
     def started(self, now):
         self.episode_since = now
@@ -84,6 +94,11 @@ class Health:
             return "ERROR", f"configure failed, no model loaded: {self.error}"
         if not active:
             return "OK", f"{state}: images are ignored"
+        n, at, why = self.unposed
+        if n and now - at <= self.window:
+            return "ERROR" if n >= UNPOSED_ERROR else "WARN", (
+                f"TF: {n} image{'s' if n > 1 else ''} in a row refused for want of a transform ({why}); the "
+                f"camera's images come: is its frame broadcast on TF, with the images' clock?")
         silent = self.silent_for(now)
         if silent is not None and silent > view_timeout:
             return "WARN", (f"no image for {silent:.1f} s during an episode (view_timeout "

@@ -25,7 +25,7 @@ import torch
 
 from . import checkpoint, geometry
 from .depth_layer import CameraConfig
-from .episode import Episode, EpisodeConfig, MAX_VIEWS
+from .episode import Episode, EpisodeConfig, MAX_VIEWS, least_top_score
 from .model import single_step
 from .open_set import energy, judged, own_thresholds, prototype_at, step_thresholds
 from .policies import PLANNERS, PRIVILEGED, exhausted, make_planner
@@ -103,9 +103,10 @@ class SensingConfig:
 
 @dataclass
 class Observation:
-    # classified (go on), recognized (stopped), unknown (stopped on an object of no known class:
-    # sensing.unknown_energy or unknown_threshold), empty, moved (another view after an
-    # unreachable one), no_object, no_image or timeout (ended)
+    # classified (go on), recognized (stopped, its top probability at least the node's
+    # confidence), unsure (stopped by max_views, the budget or no view left, below it), unknown
+    # (stopped on an object of no known class: sensing.unknown_energy or unknown_threshold),
+    # empty, moved (another view after an unreachable one), no_object, no_image or timeout (ended)
     status: str
     probs: np.ndarray | None  # (C,); None when the image was not classified
     label: str
@@ -118,7 +119,7 @@ class Observation:
 
     def result(self):
         """The JSON-able result of an episode that has ended (recognition/result)."""
-        found = self.status in ("recognized", "unknown") or \
+        found = self.status in ("recognized", "unsure", "unknown") or \
             (self.status in ("no_image", "timeout", "canceled") and self.probs is not None)
         return {"status": self.status, "label": self.label if found else "",
                 "probability": float(self.probs.max()) if found else 0.0,
@@ -139,6 +140,9 @@ class ActiveRecognizer:
         self.episode = Episode(self.model, episode, planner, reach=self.reach,
                                forward=single_step(self.model), doubt=self.doubt)
         self.rng = np.random.default_rng(seed)
+        # the least top probability an answer below `entropy_threshold` has (LabelInfo's threshold):
+        # an episode that stops otherwise below it ends unsure
+        self.confidence = least_top_score(episode.entropy_threshold, len(self.classes))
         self.initial_views = self.reach.candidates  # the paper's 50 that lie within the limits
         # the views a planner chooses among (FC_view's, else the paper's 50): once every one it
         # can reach has been used, the episode ends
@@ -271,8 +275,7 @@ class ActiveRecognizer:
         if not bool(step.done[0]) and exhausted(self.episode, self.planner_candidates)[0]:
             self.episode.stop()  # every reachable candidate used: nothing new to see
         done = bool(self.episode.done[0])
-        status = "classified" if not done else "unknown" if self.unknown() else "recognized"
-        return Observation(status, probs,
+        return Observation(self.answer(probs) if done else "classified", probs,
                            self.classes[int(probs.argmax())], float(step.entropy[0]), self.view,
                            done, self.episode.steps, seen.view, seen.object_fraction)
 
@@ -370,7 +373,12 @@ class ActiveRecognizer:
         if self.done:
             raise RuntimeError("the episode has ended; reset() for a new object")
         self.episode.stop()
-        return self.so_far("unknown" if self.unknown() else "recognized")
+        return self.so_far(self.answer(self.episode.probs[-1][0].detach().numpy()))
+
+    def answer(self, probs):
+        """The status of an episode that stopped on probabilities `probs` (C,): unknown where the
+        evidence says so, else recognized at or above `confidence`, else unsure."""
+        return "unknown" if self.unknown() else "recognized" if probs.max() >= self.confidence else "unsure"
 
     def so_far(self, status) -> Observation:
         """An Observation of no image, carrying the best guess so far (none before a view)."""
@@ -379,22 +387,3 @@ class ActiveRecognizer:
         entropy = float(self.episode.entropies[-1][0]) if probs is not None else None
         return Observation(status, probs, label, entropy, self.view, self.done,
                            self.episode.steps, self.view, 0.0)
-
-
-def least_top_score(entropy_threshold, n_classes):
-    """The smallest top probability a distribution over `n_classes` can have with an entropy
-    (nats) below `entropy_threshold`: the score a recognised class has at least (vision_msgs
-    LabelInfo's threshold). The least entropy at top probability p puts p on floor(1/p) classes
-    and the rest on one; it falls as p grows, so p is found by bisection."""
-    def least_entropy(p):
-        k = math.floor(1 / p)
-        rest = max(1.0 - k * p, 0.0)
-        return -k * p * math.log(p) - (rest * math.log(rest) if rest > 0 else 0.0)
-
-    lo, hi = 1.0 / n_classes, 1.0
-    if entropy_threshold >= least_entropy(lo):
-        return lo
-    for _ in range(60):
-        mid = (lo + hi) / 2
-        lo, hi = (lo, mid) if least_entropy(mid) < entropy_threshold else (mid, hi)
-    return hi

@@ -104,7 +104,7 @@ def run_row(name, objects, seed, checkpoint=None, dataset="procedural", root=Non
                 continue
             metres, apos, arot = shot
             obs = core.observe(metres, k, apos, arot)
-            if obs.status in ("classified", "recognized"):
+            if obs.status in ("classified", "recognized", "unsure"):
                 labels.append(obs.label)
         labels = labels or [""]
         hits3.append(labels[min(3, len(labels)) - 1] == truth)

@@ -142,7 +142,7 @@ def run(ns, shown, recognizer, seed, camera=None, timeout=30.0):
             result = recognize(executor, client, timeout=timeout) or \
                 {"status": "no result", "label": "", "views": 0}
             results.append({"index": index, "truth": truth, **result})
-            right.append(result["status"] == "recognized" and result["label"] == truth)
+            right.append(result["status"] in ("recognized", "unsure") and result["label"] == truth)
         seconds = time.monotonic() - began
         name = f"{rec.get_fully_qualified_name().lstrip('/')}: recognition"
         classified = str(rec.loop.counts["classified"])

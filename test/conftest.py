@@ -92,6 +92,14 @@ def load_benchmark(name):
     return importlib.import_module(name)
 
 
+def sure_or_not(result, confidence):
+    """The status an episode that stopped with an answer (a result's dict) must have: recognized
+    where its best guess's probability reaches the node's confidence (LabelInfo's threshold, the
+    core's `confidence`), else unsure; either way its label is kept."""
+    assert result["label"], result
+    return "recognized" if result["probability"] >= confidence else "unsure"
+
+
 def need_vision_msgs():
     """Skip unless vision_msgs is usable here (it has no wheel: tools/build_vision_msgs.sh
     builds it, and the README's test command runs that); in CI (env CI set) fail instead."""

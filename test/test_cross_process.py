@@ -82,8 +82,8 @@ def episodes(ns, count, **params):
 def test_a_reliable_camera_with_a_floor_that_leaves_a_fifth_of_requests_unanswered(cameras):
     results, views, recognizer = episodes("reliable", 3)
     assert all(r is not None for r in results)  # every episode ends with a status
-    assert {r["status"] for r in results} <= {"recognized", "no_image"}
-    assert sum(r["status"] == "recognized" for r in results) >= 2
+    assert {r["status"] for r in results} <= {"recognized", "unsure", "no_image"}
+    assert sum(r["status"] in ("recognized", "unsure") for r in results) >= 2  # an answer, sure or not
     assert recognizer.inputs[2].reliability == "reliable"  # auto followed the publisher
     assert recognizer.loop.counts["resent"] >= 2 and recognizer.loop.counts["unreachable"] >= 1  # sent again, given up
     z = np.array([v.pose.position.z for v in views])
@@ -93,7 +93,7 @@ def test_a_reliable_camera_with_a_floor_that_leaves_a_fifth_of_requests_unanswer
 
 def test_a_best_effort_camera_with_the_shipped_profile_delivers_640x480(cameras):
     results, views, recognizer = episodes("best_effort", 2)
-    assert [r and r["status"] for r in results] == ["recognized", "recognized"]
+    assert all(r and r["status"] in ("recognized", "unsure") and r["label"] for r in results), results
     assert recognizer.inputs[2].reliability == "best_effort"
     assert recognizer.loop.counts["resent"] <= 1  # frames arrive; at most discovery's first request is lost
     assert results[0]["label"] == "bathtub"  # procedural/test[7]

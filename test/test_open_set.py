@@ -9,6 +9,7 @@ import re
 import numpy as np
 import pytest
 import torch
+from conftest import sure_or_not
 
 from active_recognition import open_set, open_set_fit
 from active_recognition.validation import InputError
@@ -169,7 +170,7 @@ def test_the_benchmark_keeps_its_episodes_in_the_elevation_band_asked(tmp_path, 
 
 
 def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
-    """sensing.unknown_energy: the same episode ends recognized at 0 (never unknown) and unknown
+    """sensing.unknown_energy: the same episode ends with its answer at 0 (never unknown) and unknown
     with a threshold below its mean energy; the label and probability stay in the result."""
     from dataclasses import replace
 
@@ -188,10 +189,10 @@ def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
         obs = None
         while not core.done:
             obs = core.observe(sim.capture(*core.requested_pose(sim.k))[0], sim.k)
-            assert obs.status in ("classified", "recognized", "unknown")
+            assert obs.status in ("classified", "recognized", "unsure", "unknown")
         ends[threshold] = obs, list(core.energies)
     (known, energies), *others = ends.values()
-    assert known.status == "recognized" and len(energies) == known.views
+    assert known.status == sure_or_not(known.result(), core.confidence) and len(energies) == known.views
     for obs, same in others:
         assert obs.status == "unknown" and same == pytest.approx(energies)
         result = obs.result()
@@ -241,7 +242,7 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
     rng = np.random.default_rng(0)
     first = stored_recognizer(tmp_path, "random", rng.normal(size=(10, c, s)), 2.0, SensingConfig())
     obs, states = episode_states(first, sim)
-    assert obs.status == "recognized" and len(states) == obs.views  # 2: nothing is above it
+    assert obs.status == sure_or_not(obs.result(), first.confidence) and len(states) == obs.views  # 2: none above
     on = rng.normal(size=(10, c, s))
     on[:len(states), 3] = states  # the episode's own states: class 3's means
     away = rng.normal(size=(10, c, s))
@@ -256,7 +257,7 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
         expected = np.mean([1 - (unit(means[t]) @ unit(states[t])).max() for t in range(len(states))])
         assert np.mean(core.prototypes) == pytest.approx(expected, abs=1e-5)
         assert (expected > threshold) == (name != "on"), expected  # 0 on a mean, 2 opposite every one
-    assert runs["on"][0].status == runs["off"][0].status == "recognized"
+    assert runs["on"][0].status == runs["off"][0].status == sure_or_not(runs["on"][0].result(), core.confidence)
     unknown = runs["away"][0]
     assert unknown.status == "unknown" and unknown.label == obs.label
     assert unknown.result()["probability"] == pytest.approx(float(obs.probs.max()))
@@ -337,7 +338,8 @@ def test_an_energy_mean_open_set_reads_the_views_energies(tmp_path):
     plain = stored_recognizer(tmp_path, "plain", means, 2.0, SensingConfig(hold_unknown=False))
     obs, _ = episode_states(plain, sim)
     mean_energy = float(np.mean(plain.energies))
-    assert obs.status == "recognized" and len(plain.energies) == obs.views and np.isfinite(mean_energy)
+    assert obs.status == sure_or_not(obs.result(), plain.confidence) and len(plain.energies) == obs.views
+    assert np.isfinite(mean_energy)
     ends = {}
     for name, threshold, sensing in (("below", mean_energy - 0.5, SensingConfig(hold_unknown=False)),
                                      ("above", mean_energy + 0.5, SensingConfig(hold_unknown=False)),
@@ -347,7 +349,8 @@ def test_an_energy_mean_open_set_reads_the_views_energies(tmp_path):
         ends[name] = episode_states(core, sim)[0]
         assert core.open_set_scores() is (core.energies if name != "override" else core.prototypes)
     assert ends["below"].status == "unknown" and ends["below"].label == obs.label  # its energy is above
-    assert ends["above"].status == "recognized" and ends["override"].status == "recognized"
+    answer = sure_or_not(ends["above"].result(), core.confidence)  # not unknown
+    assert ends["above"].status == answer and ends["override"].status == answer
     # the hold reads each view's energy as it is taken: every answer confident (entropy 5), an energy
     # threshold below any energy holds from the first view to max_views; one above any ends at once
     held = {}

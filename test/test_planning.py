@@ -453,7 +453,7 @@ def test_a_view_taken_far_from_its_request_marks_both_and_a_spent_sphere_ends_th
         obs = core.observe(depth)
         steps += 1
         assert steps <= 8
-    assert steps == 8 and obs.status == "recognized" and exhausted(core.episode, cands)[0]
+    assert steps == 8 and obs.status == "unsure" and exhausted(core.episode, cands)[0]
 
 
 def test_distillation_teaches_fc_loc_the_increment_toward_the_oracles_view():

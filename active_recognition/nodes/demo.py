@@ -141,14 +141,14 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
         recorder = recognizer.recorder
         if recorder is not None and not spin_until(executor, recorder.ready, 10.0):
             raise RuntimeError("the recorder's subscriptions found no publishers")
-        rows = []
+        rows, unsure = [], 0
         for n, index in enumerate(order):
             camera.set_parameters([Parameter("index", value=int(index))])
             truth = test.classes[test.items[index][1]]
             start = time.perf_counter()
             result = recognize(executor, client, timeout=30.0)  # no_image takes up to 12 s
             ms = (time.perf_counter() - start) * 1e3
-            if result is None or result["status"] != "recognized":
+            if result is None or result["status"] not in ("recognized", "unsure"):
                 why = ("no result (timed out)" if result is None else
                        {"no_object": "no object seen",
                         "no_image": "no image came (no view could be had)",
@@ -159,16 +159,19 @@ def run_demo(objects=10, seed=0, checkpoint="", args=None, out=print, planner="a
                 rows.append((False, 0, ms, float("nan")) if result is None else
                             (False, result["views"], ms, result["robot_seconds"]))
                 continue
-            ok = result["label"] == truth
+            ok = result["label"] == truth  # an unsure answer counts by its best guess, as before it had its status
+            unsure += result["status"] == "unsure"
             rows.append((ok, result["views"], ms, result["robot_seconds"]))
             out(f"object {n + 1}/{len(order)}: true={truth:<12} predicted={result['label']:<12} "
-                f"p={result['probability']:.2f} views={result['views']:<2} robot={result['robot_seconds']:.1f} s "
+                f"p={result['probability']:.2f}{' (unsure)' if result['status'] == 'unsure' else ''} "
+                f"views={result['views']:<2} robot={result['robot_seconds']:.1f} s "
                 f"time={ms:.0f} ms {'ok' if ok else 'WRONG'}")
         if recorder is not None:  # the last episode's end may still be on its way to the file
             spin_until(executor, lambda: recorder.quiet(0.25), 3.0)
         summary = {"objects": len(rows), "planner": recognizer.core.planner,
                    "camera": f"{camera.sim.sensor.width}x{camera.sim.sensor.height}",
                    "answered": sum(r[1] > 0 for r in rows),
+                   "unsure": unsure,
                    "accuracy": float(np.mean([r[0] for r in rows])),
                    "mean_views": float(np.mean([r[1] for r in rows])),
                    "mean_robot_seconds": float(np.nanmean([r[3] for r in rows])) if any(

@@ -6,7 +6,8 @@ starts an episode on the node's controller, feedback follows each classified ima
 comes when it ends; a cancel ends it at once (canceled, the best guess so far). A goal that
 comes while another runs is rejected or preempts it (parameter goal_policy). Goal states:
 recognized and unknown succeed, canceled is canceled (aborted when preempted), the others
-(no_object, no_image, timeout) abort. Where the interface package cannot be imported the node
+(unsure: stopped below LabelInfo's threshold, its best guess in the result; no_object, no_image,
+no_frame, timeout) abort. Where the interface package cannot be imported the node
 runs without the action and says so once.
 """
 from rclpy.action import ActionServer, CancelResponse, GoalResponse

@@ -29,7 +29,7 @@ from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics
 from active_recognition.nodes.recorder import Recorder, recorded_topics
 from active_recognition.nodes.tf_poses import TfPoses
 from active_recognition.options import parameters
-from active_recognition.recognizer import ActiveRecognizer, least_top_score
+from active_recognition.recognizer import ActiveRecognizer
 from active_recognition.validation import InputError, group
 
 PARAMS = parameters(RecognizerParameters)  # name: options.Param (default, check, description)
@@ -92,8 +92,8 @@ class Recognizer(LifecycleNode):
         self.sensing, self.goal_policy, self.failure = cfg.sensing, p["goal_policy"], None
         self.loop = Controller(self.core, cfg.timing, p["frame_id"], cfg.robot)
         self.loop.require_pose, self.loop.pose_from = self.tf.on, "transform of the image's frame from TF"
-        # the LabelInfo threshold: the least top score a recognised class has
-        self.outputs = Outputs(self, self.core.classes, least_top_score(p["entropy_threshold"], len(self.core.classes)))
+        # LabelInfo's threshold: the least top score a recognised class has (below it: unsure)
+        self.outputs = Outputs(self, self.core.classes, self.core.confidence)
         if p["record"]:
             self.recorder = Recorder(self, p["record"], recorded_topics())
             self.get_logger().info(f"recording the loop's topics to {self.recorder.path}")

@@ -55,8 +55,14 @@ class TfPoses:
 
     def poll(self, loop, now):
         """The controller's commands for the transform of the image it waits for, once TF has it
-        (none before, or with pose_source: topic)."""
-        if not self.on or loop.state != "classifying":
+        (none before, or with pose_source: topic); the episode's end where TF has never had its
+        object frame (controller.frame_missing)."""
+        if not self.on or not loop.running:
+            return []
+        if not self.buffer._frameExists(loop.frame):  # tf2's BufferCore: a frame it has ever had
+            return loop.frame_missing(now, f"TF has never had the object frame {loop.frame!r} (the goal's "
+                                           f"object_frame, else parameter frame_id)")
+        if loop.state != "classifying":
             return []
         header = loop.pending.header
         found = self.lookup(loop.frame, header.frame_id, header.stamp)
