@@ -39,7 +39,7 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + package_name]),
         ("share/" + package_name, ["package.xml"]),
         ("share/" + package_name + "/config", glob("config/*.yaml") + glob("config/*.xml")),
-        ("share/" + package_name + "/launch", glob("launch/*.launch.xml")),
+        ("share/" + package_name + "/launch", glob("launch/*.launch.xml") + glob("launch/*.launch.py")),
     ],
     python_requires=">=3.10",
     # torch: install the CPU build first on CPU machines (README), or an unpinned torch pulls CUDA

@@ -34,7 +34,7 @@ line='import os, sys; os.environ.get("AMENT_PREFIX_PATH") or os.environ.__setite
 # one link a file, as colcon --symlink-install makes them: ros2 launch looks for a launch file
 # with os.walk, which does not enter a linked folder
 links=("share/$name/package.xml=$root/package.xml")
-for file in "$root"/launch/*.launch.xml "$root"/config/*.yaml "$root"/config/*.xml; do
+for file in "$root"/launch/*.launch.xml "$root"/launch/*.launch.py "$root"/config/*.yaml "$root"/config/*.xml; do
   links+=("share/$name/${file#"$root"/}=$file")
 done
 for exe in recognizer simulated_camera; do
