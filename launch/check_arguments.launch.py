@@ -3,10 +3,8 @@
 
 """Refuse a launch argument the including file does not declare: `ros2 launch` passes on any
 NAME:=VALUE without a word, so a misspelt `pose_sorce:=topic` would otherwise be ignored. The
-including file names its arguments in `declared` (space-separated):
-    <include file="$(find-pkg-share active_recognition)/launch/check_arguments.launch.py">
-      <arg name="declared" value="objects root ..."/>
-    </include>"""
+including file names its arguments in `declared` (space-separated), in an <include> of this file
+with <arg name="declared" value="objects root ..."/>."""
 import difflib
 
 from launch import LaunchDescription
