@@ -18,7 +18,7 @@ while [ $# -gt 0 ]; do
 done
 [[ "$cores" =~ ^[1-9][0-9]*$ && "$seconds" =~ ^[1-9][0-9]*$ ]] || { echo "$usage (positive integers)" >&2; exit 2; }
 workers=()
-trap 'kill "${workers[@]}" 2>/dev/null; exit 143' INT TERM
+trap 'kill "${workers[@]}" 2>/dev/null; wait; exit 143' INT TERM  # after its workers
 for _ in $(seq "$cores"); do
   timeout "$seconds" sh -c 'while :; do :; done' &
   workers+=($!)
