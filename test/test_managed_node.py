@@ -6,7 +6,6 @@ process: vision_msgs results, a lifecycle driven by another node, /diagnostics, 
 end in bounded time. The camera runs here (a simulated one that can fall silent)."""
 import subprocess
 import sys
-import time
 from contextlib import contextmanager
 
 import pytest
@@ -210,11 +209,11 @@ def test_a_camera_answering_one_request_in_three_ends_within_episode_timeout():
     with loop("sparse", answer=lambda n: n % 3 == 0, view_timeout=0.3, max_retries=1,
               entropy_threshold=0.0, episode_timeout=2.0) as (executor, client, camera, got):
         assert spin_until(executor, client.reset.service_is_ready, 60), "no recognizer process"
-        start = time.monotonic()
-        result = recognize(executor, client, timeout=10)
-        took = time.monotonic() - start
+        result = recognize(executor, client, timeout=30)
         spin_until(executor, lambda: False, 0.3)  # the Classifications sent before the result
-        assert result is not None and took < 2.0 + 1.0, (result, took)
+        # bounded by the node's own clock (elapsed: from the episode's start), not this process's,
+        # which a loaded machine delays by the DDS round trips around it
+        assert result is not None and result["elapsed"] < 2.0 + 1.0, result
         assert result["status"] in ("timeout", "recognized", "no_image"), result
         assert result["views"] == len(got["classification"]) >= 1  # some images came
         if result["status"] == "timeout":  # the best guess so far, as no_image carries it
