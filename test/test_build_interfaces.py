@@ -17,9 +17,11 @@ from ros2_cli import need_ros2, ros2
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def build(*args, where=None):
-    """The script run with ARGS, its build folders under `where` (a test's own) if given."""
-    env = {**os.environ, "PYTHON": sys.executable, **({"BUILD_INTERFACES_DIR": str(where)} if where else {})}
+def build(*args, where=None, deps=None):
+    """The script run with ARGS, its build folders under `where` (a test's own) and its archives
+    in `deps` (instead of ../shared/deps) if given."""
+    env = {**os.environ, "PYTHON": sys.executable, **({"BUILD_INTERFACES_DIR": str(where)} if where else {}),
+           **({"BUILD_INTERFACES_DEPS": str(deps)} if deps else {})}
     return subprocess.run(["bash", str(ROOT / "tools" / "build_interfaces.sh"), *args], capture_output=True,
                           text=True, env=env, timeout=600)
 
@@ -74,3 +76,11 @@ def test_a_package_that_fails_to_build_is_named_and_nothing_is_installed(install
     [line] = error_lines(done)
     assert line.startswith("build_interfaces: ros2cli failed to build (ros2cli); nothing was installed; the log:"), line
     assert "ros2cli up to date" in build("--check").stdout
+
+
+def test_without_the_archives_what_was_built_is_kept_and_the_rest_goes_on(installed, tmp_path):
+    done = build("--check", deps=tmp_path / "no-deps")
+    assert done.returncode == 0, done
+    for name in ("tf2_ros_py", "ros2cli"):
+        assert f"build_interfaces: {name} kept as it is in " in done.stdout, done.stdout
+    assert "vision_msgs up to date" in done.stdout

@@ -36,7 +36,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 python=${PYTHON:-python3}
 builds=${BUILD_INTERFACES_DIR:-$root/build}  # the build folders (and their logs)
 force=0
-deps=$root/../shared/deps
+deps=${BUILD_INTERFACES_DEPS:-$root/../shared/deps}  # the archives of ../shared/deps/README.md
 geometry2=$deps/geometry2-jazzy-tf2.tar.gz
 ros2cli=$deps/ros2-jazzy-cli-launch.tar.gz
 check=0  # --check: say what is out of date, build nothing, exit 1 if anything is
@@ -130,7 +130,11 @@ colcon_build() {
     return
   fi
   if [ ! -e "$src" ]; then
-    echo "build_interfaces: $name not built: no source ($src is missing); $how"
+    if [ -f "$stamp" ] && [ -n "$where" ]; then
+      echo "build_interfaces: $name kept as it is in $prefix: its source is missing ($src)"
+    else
+      echo "build_interfaces: $name not built: no source ($src is missing); $how"
+    fi
     return
   fi
   sum=$( (if [ -d "$src" ]; then (cd "$src" && find . -type f -not -path '*/.git/*' | sort | xargs cat); \
