@@ -296,7 +296,8 @@ def test_the_commit_finder_sees_a_hash_and_not_a_word():
 
 def test_the_manuals_name_no_commit():
     """History lives in git and in the tries page: the README and docs/*.md name no commit (but
-    RESULTS.md, whose tables say which model each row measured, and a pin in PINS)."""
+    RESULTS.md, rendered from the committed output, whose row labels may name a model by the
+    commit that shipped it, and a pin in PINS)."""
     texts = {p.relative_to(ROOT): p.read_text() for p in pages() + [ROOT / "docs/options.md"] if p != TRIES}
     assert Path("docs/training.md") in texts
     found = {str(page): hashes for page, text in texts.items()
