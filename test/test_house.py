@@ -201,14 +201,18 @@ def test_the_figure_check_catches_a_figure_without_its_output(tmp_path):
 GENERATED = {"RESULTS.md", "options.md"}
 
 
+TRIES = ROOT / "docs/results/tries.md"  # what was tried and not shipped, with its figures
+
+
 def pages():
-    """The hand-written pages: the README and docs/*.md but the generated ones."""
-    return [ROOT / "README.md"] + [p for p in sorted((ROOT / "docs").glob("*.md")) if p.name not in GENERATED]
+    """The hand-written pages: the README, docs/*.md but the generated ones, and the tries."""
+    return ([ROOT / "README.md"] + [p for p in sorted((ROOT / "docs").glob("*.md")) if p.name not in GENERATED]
+            + [TRIES])
 
 
 def test_every_figure_of_the_readme_and_docs_comes_from_a_committed_output():
     names = {p.name for p in pages()}
-    assert {"README.md", "ros.md", "training.md", "datasets.md", "benchmarks.md"} <= names, names
+    assert {"README.md", "ros.md", "training.md", "datasets.md", "benchmarks.md", "tries.md"} <= names, names
     problems = [(p.relative_to(ROOT), t, why) for p in pages() for t, why in unbacked(p.read_text())]
     assert problems == [], "figures without a committed output behind them:\n" + "\n".join(
         f"  {page}: {t}: {why}" for page, t, why in problems)
@@ -275,3 +279,32 @@ def test_the_runtime_imports_nothing_of_the_harness():
             todo.extend(graph[module])
     harness = {f"active_recognition.{m}" for m in ("train", "evaluate", "open_set_fit")}
     assert "active_recognition.nodes.recognizer" in seen and seen & harness == set()
+
+
+# A commit named by its hash: 7 to 40 hex digits with a letter and a digit among them, standing
+# alone or in a file name (`model_1a2b3c4.pt`). Pins of other repositories' data, which a
+# download needs, are not the project's history.
+COMMIT = re.compile(r"(?<![0-9A-Za-z])(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}(?![0-9A-Za-z])")
+PINS = {"eef81ff76641d63e9e50f227a925c6be3b178716"}  # datasets.md: the ModelNet10 copy's commit
+
+
+def test_the_commit_finder_sees_a_hash_and_not_a_word():
+    found = COMMIT.findall("git show 77bcafd:a.pt, modelnet10_aea09c4.pt, 1308b0b's loop; "
+                           "decade, 1234567, deadbeef, 0x1f2e3d4c5b, v0.1.2, sha256 " + "ab12" * 10)
+    assert found == ["77bcafd", "aea09c4", "1308b0b", "ab12" * 10]
+
+
+def test_the_manuals_name_no_commit():
+    """History lives in git and in the tries page: the README and docs/*.md name no commit (but
+    RESULTS.md, rendered from the committed output, whose row labels may name a model by the
+    commit that shipped it, and a pin in PINS)."""
+    texts = {p.relative_to(ROOT): p.read_text() for p in pages() + [ROOT / "docs/options.md"] if p != TRIES}
+    assert Path("docs/training.md") in texts
+    found = {str(page): hashes for page, text in texts.items()
+             if (hashes := [h for h in COMMIT.findall(text) if h not in PINS])}
+    assert found == {}, f"name the committed output or the model, not the commit: {found}"
+
+
+def test_the_results_page_links_the_tries():
+    assert TRIES.is_file()
+    assert "(results/tries.md)" in (ROOT / "docs/RESULTS.md").read_text()
