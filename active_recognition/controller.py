@@ -13,6 +13,7 @@ times, then its view is given up for another (no view left: no_image); an episod
 way episode_timeout after its start (pauses not counted) ends with timeout."""
 from __future__ import annotations
 
+import time
 from collections import Counter, deque
 from dataclasses import dataclass, replace
 from typing import Any
@@ -28,6 +29,7 @@ from .recognizer import SensingConfig
 from .robot_time import RobotTime
 from .timing import Timing
 from .validation import InputError, checks
+from .view_waits import ViewWaits
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
 IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
@@ -78,6 +80,7 @@ class Controller:
         self.paused_for, self.resumed_state = 0.0, None
         self.counts, self.health = Counter(), Health()
         self.waited = deque(maxlen=1000)        # seconds each image waited for its pose
+        self.view_waits = ViewWaits()           # each view's wait for its image, its pose; compute
         self.cost, self.budget = cost, 0.0      # what views cost a robot; this episode's budget
         self.notes = []                         # one-off information the node logs once
 
@@ -98,6 +101,7 @@ class Controller:
         self.goal, self.header, self.pending, self.request = goal, None, None, None
         self.started, self.paused_for, self.state = now, 0.0, WAITING
         self.health.started(now)
+        self.view_waits.start()
         return out + [self.ask(now)]
 
     def cancel(self, now):
@@ -254,7 +258,7 @@ class Controller:
                   "images matched to a measured pose (%)": 100.0 * self.counts["matched"] / max(
                       self.counts["classified"] + self.counts["unmatched"], 1),
                   "pose wait p99 (ms)": float(np.percentile(self.waited, 99)) * 1e3 if self.waited else "none",
-                  "requests resent": self.counts["resent"],
+                  **self.view_waits.values(), "requests resent": self.counts["resent"],
                   "views unreachable": self.counts["unreachable"],
                   "view_timeout (s)": self.timing.view_timeout,
                   "episode_timeout (s)": self.timing.episode_timeout}
@@ -307,6 +311,7 @@ class Controller:
         """The waiting image through the core, with its pose (None: the view asked for)."""
         p, self.pending, self.state, self.unposed = self.pending, None, WAITING, None
         try:
+            began = time.perf_counter()
             obs = self.core.observe(p.metres, p.k, *(found or (None, None)))
         except InputError as e:  # the image itself (its shape); a bug elsewhere is not an input
             return self.reject(now, str(e))
@@ -320,6 +325,7 @@ class Controller:
         if obs.status != "no_object":
             self.counts["classified"] += 1
             self.counts["matched"] += found is not None  # to its measured pose
+            self.view_waits.view(p.stamp, self.request, p.since, now, time.perf_counter() - began)
             self.header = p.header
             if last is None and self.over_budget():
                 last = self.core.finish()  # the next view would overrun the budget: answer now
@@ -370,7 +376,8 @@ class Controller:
 
     def end(self, now, obs):
         result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now),
-                  "robot_seconds": self.cost.seconds(self.core.views_taken())}
+                  "robot_seconds": self.cost.seconds(self.core.views_taken()),
+                  "view_waits": self.view_waits.episode}
         end = End(obs, self.header, result, self.goal, frame=self.frame)
         self.health.ended(obs.status)
         self.state, self.goal, self.request, self.asked_at = ENDED, None, None, None
