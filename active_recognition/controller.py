@@ -233,6 +233,9 @@ class Controller:
                                                f"s): assuming the requested view"))
             if self.state == CLASSIFYING:
                 out += self.classify(now, found)
+        elif self.state == CLASSIFYING and self.late_pose(now):
+            self.counts["reasked"] += 1  # the same view again: a camera's next pose brings the lost one too
+            out.append(self.ask(now, again=True))
         if self.running and self.elapsed(now) > self.timing.episode_timeout:
             self.pending = None
             out.append(Refuse("episode_timeout", f"the episode ran past episode_timeout "
@@ -259,6 +262,7 @@ class Controller:
                       self.counts["classified"] + self.counts["unmatched"], 1),
                   "pose wait p99 (ms)": float(np.percentile(self.waited, 99)) * 1e3 if self.waited else "none",
                   **self.view_waits.values(), "requests resent": self.counts["resent"],
+                  "views asked again for a late pose": self.counts["reasked"],
                   "views unreachable": self.counts["unreachable"],
                   "view_timeout (s)": self.timing.view_timeout,
                   "episode_timeout (s)": self.timing.episode_timeout}
@@ -290,6 +294,14 @@ class Controller:
         self.tries += 1
         self.asked_at = now
         return AskView(position, rotation, self.frame, now, again)
+
+    def late_pose(self, now):
+        """Whether the waiting image, which answers the latest request (none asked again is on its
+        way), has waited pose_reask for its pose since the latest image came; never before a first
+        pose (a camera with none), nor with pose_reask 0."""
+        wait, asked = self.timing.pose_reask, self.asked_at
+        return bool(wait and self.poses) and asked is not None and self.pending.stamp >= asked - 1e-6 \
+            and now - self.health.last_frame >= wait
 
     def reject(self, now, reason):
         self.counts["rejected"] += 1

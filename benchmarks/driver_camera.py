@@ -78,10 +78,14 @@ def serve(args):
                 return
             depth, position, rotation = shot
             stamp = msg.header.stamp
+            pose = ma.position_to_pose(position, rotation, msg.header.frame_id, stamp)
             self.pub_info.publish(ma.camera_info(self.sim.k, stamp, "camera_depth_optical_frame"))
+            if args.pose_first:
+                self.pub_pose.publish(pose)
             self.pub_image.publish(ma.metres_to_image(depth, stamp, "camera_depth_optical_frame",
                                                       self.sim.sensor.encoding))
-            self.pub_pose.publish(ma.position_to_pose(position, rotation, msg.header.frame_id, stamp))
+            if not args.pose_first:
+                self.pub_pose.publish(pose)
             if self.log is not None:
                 self.log.write(json.dumps({"stamp": ma.stamp_seconds(stamp), "received": received,
                                            "published": time.time()}) + "\n")
@@ -101,8 +105,9 @@ def serve(args):
 def start(command, log, profile_free=False):
     """`command` in a process of its own, its output to the file `log` (its .log attribute)."""
     env = dict(os.environ)  # ROS_DOMAIN_ID and the discovery range
-    if profile_free:
-        env.pop("FASTRTPS_DEFAULT_PROFILES_FILE", None)
+    if profile_free:  # Fast DDS as it comes
+        for name in ("FASTRTPS_DEFAULT_PROFILES_FILE", "FASTDDS_DEFAULT_PROFILES_FILE", "FASTDDS_BUILTIN_TRANSPORTS"):
+            env.pop(name, None)
     with open(log, "w") as out:
         proc = subprocess.Popen(command, env=env, stdout=out, stderr=subprocess.STDOUT)
     proc.log = log
@@ -214,6 +219,8 @@ def main(argv=None):
                     help="a recognizer parameter besides its defaults (repeatable)")
     ap.add_argument("--out", help="JSON of the figures (default docs/results/driver_camera_"
                                   "<dataset>.json, which only a full run may write)")
+    ap.add_argument("--pose-first", action="store_true",
+                    help="the camera publishes each pose before its image (default: after it)")
     ap.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)  # the camera process
     ap.add_argument("--log", default="", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -234,7 +241,8 @@ def main(argv=None):
     params = [a for p in [f"checkpoint:={CHECKPOINT[args.dataset]}", *args.param] for a in ("-p", p)]
     with tempfile.TemporaryDirectory(prefix="driver_camera_") as logs:
         camera_log = Path(logs) / "camera.jsonl"
-        camera = start([sys.executable, __file__, "--serve", "--dataset", args.dataset, "--seed",
+        camera = start([sys.executable, __file__, "--serve", *(["--pose-first"] if args.pose_first else []),
+                        "--dataset", args.dataset, "--seed",
                         str(args.seed), "--log", str(camera_log), *(["--root", args.root] if args.root else [])],
                        Path(logs) / "camera.log", profile_free=True)
         recognizer = start([recognizer_exe, "--ros-args", *params], Path(logs) / "recognizer.log")
@@ -249,7 +257,8 @@ def main(argv=None):
                   "load_average": os.getloadavg(), "dataset": args.dataset, "episodes": len(shown),
                   "seed": args.seed, "timeout_s": args.timeout, "recognizer_params": params,
                   "camera": "driver_camera.py --serve: RealSense preset 640x480 16UC1, default QoS "
-                            "(reliable, keep-last 10), Fast DDS defaults, info, image, then pose",
+                            "(reliable, keep-last 10), Fast DDS defaults, info, "
+                            f"{'pose, then image' if args.pose_first else 'image, then pose'}",
                   "seconds": seconds, **figures(rows, camera_log), "goals_detail": rows}
     write_json(Path(out), result)
     emit({k: v for k, v in result.items() if k != "goals_detail"})
