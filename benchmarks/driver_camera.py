@@ -5,13 +5,15 @@
 
 The camera (`--serve`, a process of its own): a plain rclpy node that hears next_view, is there
 at once, renders the object with the project's renderer (the RealSense preset: 640x480 16UC1)
-and publishes depth/camera_info, depth/image and then one camera/pose per image, all stamped like
-the request, with ROS's default QoS (reliable, keep-last 10) and Fast DDS's defaults (no profile
-file: FASTRTPS_DEFAULT_PROFILES_FILE is removed from its environment). It writes when each request
+and publishes depth/camera_info, then depth/image and one camera/pose per image (the pose first,
+or last: both orders are run), all stamped like the request, with ROS's default QoS (reliable,
+keep-last 10) and Fast DDS's defaults (no profile file: FASTRTPS_DEFAULT_PROFILES_FILE is removed
+from its environment). It writes when each request
 came and when its image went, a JSON line each. Its `index` parameter picks the test object.
 
-The run: the recognizer as users start it (the `recognizer` executable, its defaults but the
-checkpoint, and any --param) in a process of its own, the camera in another, and an action client
+A run: the recognizer as users start it (the `recognizer` executable, its defaults but the
+checkpoint, and its setup's parameters: `before`, as it was before it asked again for a late pose,
+and `after`, its defaults now) in a process of its own, the camera in another, and an action client
 here that sends one goal per seeded test object, each given --timeout seconds to answer (then
 canceled). Per goal: answered or not, wall time, views, status; per view (the result's view_waits
 and the camera's log): waiting for the image, the camera's latency (request stamp to its image
@@ -19,7 +21,8 @@ sent), waiting for the pose, computing, and the node's own waiting (the image wa
 camera's latency, plus the pose wait).
 
     python benchmarks/driver_camera.py [--dataset procedural] [--episodes 40] [--seed 7]
-        [--timeout 20] [--param NAME:=VALUE ...] [--out FILE]
+        [--timeout 20] [--setups before after] [--orders pose_first pose_last]
+        [--param NAME:=VALUE ...] [--out FILE]
 
 Last line is JSON, also written to docs/results/driver_camera_<dataset>.json."""
 import argparse
@@ -37,6 +40,11 @@ from common import RESULTS, emit, output, stop_processes
 from pose_wait import cpu, tail, waits_ms
 
 CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
+# recognizer parameters: as before the node asked again for a late pose (its reliable camera/pose
+# then the same as image_qos auto's with a reliable camera), and its defaults now
+SETUPS = {"before": ["pose_reask:=0.0", "image_qos:=reliable"], "after": []}
+ORDERS = ("pose_first", "pose_last")  # the camera publishes each pose before its image, or after
+DIAGNOSED = "wait p"  # /diagnostics keys kept: the waits' percentiles
 START_S = 180  # a process loading torch and a model beside others on a busy 2-core machine
 
 
@@ -137,8 +145,10 @@ def goals(shown, camera, recognizer, timeout):
     from rclpy.action import ActionClient
     from rclpy.parameter import Parameter
     from rclpy.parameter_client import AsyncParameterClient
+    from diagnostic_msgs.msg import DiagnosticArray
     from std_msgs.msg import String
 
+    import msg_adapters as ma
     from active_recognition.nodes.demo import ros_session, spin_until
     from active_recognition_interfaces.action import Recognize
 
@@ -146,10 +156,14 @@ def goals(shown, camera, recognizer, timeout):
         import rclpy
         node = rclpy.create_node("driver_camera_client", context=ctx)
         executor.add_node(node)
-        results = []
+        results, diagnostics = [], {}
         node.create_subscription(String, "/recognition/result", lambda m: results.append(json.loads(m.data)), 10)
+        node.create_subscription(DiagnosticArray, "/diagnostics", lambda m: diagnostics.update(
+            {k: v for s in m.status if s.name.endswith("recognizer: recognition")
+             for k, v in ma.status_values(s).items() if DIAGNOSED in k}), 10)
         params = AsyncParameterClient(node, "/driver_camera")
         client = ActionClient(node, Recognize, "/recognize")
+
         def dead():
             return [p for p in (camera, recognizer) if p.poll() is not None]
         if not spin_until(executor, lambda: ready(node, client, params) or dead(), START_S) or dead():
@@ -181,8 +195,9 @@ def goals(shown, camera, recognizer, timeout):
                          "view_waits": result.get("view_waits", [])})
             print(f"object {index:4d} {truth:<12} {rows[-1]['status']:<10} {rows[-1]['label']:<12} "
                   f"{rows[-1]['views']:2d} views {wall:6.2f} s", flush=True)
+        spin_until(executor, lambda: False, 1.5)  # /diagnostics, at 1 Hz, after the last goal
         client.destroy()
-        return rows
+        return rows, diagnostics
 
 
 def figures(rows, camera_log):
@@ -207,6 +222,25 @@ def figures(rows, camera_log):
             "views_own_wait_over_500ms": int((own > 0.5).sum())}
 
 
+def run(dataset, root, shown, seed, params, pose_first, timeout, logs):
+    """The camera and the recognizer (its `params`, NAME:=VALUE) in processes of their own, one goal
+    per object of `shown` -> (the goal rows, the figures, the last /diagnostics waits)."""
+    logs = Path(logs)
+    camera_log = logs / "camera.jsonl"
+    camera_log.write_text("")
+    recognizer_exe = shutil.which("recognizer") or str(Path(sys.executable).parent / "recognizer")
+    params = [a for p in [f"checkpoint:={CHECKPOINT[dataset]}", *params] for a in ("-p", p)]
+    camera = start([sys.executable, __file__, "--serve", *(["--pose-first"] if pose_first else []),
+                    "--dataset", dataset, "--seed", str(seed), "--log", str(camera_log),
+                    *(["--root", root] if root else [])], logs / "camera.log", profile_free=True)
+    recognizer = start([recognizer_exe, "--ros-args", *params], logs / "recognizer.log")
+    try:
+        rows, diagnostics = goals(shown, camera, recognizer, timeout)
+    finally:
+        stop_processes([recognizer, camera])
+    return rows, figures(rows, camera_log), diagnostics
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dataset", default="procedural", choices=list(CHECKPOINT),
@@ -215,13 +249,16 @@ def main(argv=None):
     ap.add_argument("--episodes", type=int, default=40, help="test objects (a seeded draw), one goal each")
     ap.add_argument("--seed", type=int, default=7, help="the objects shown and the camera's noise")
     ap.add_argument("--timeout", type=float, default=20.0, help="seconds a goal may take to answer")
+    ap.add_argument("--setups", nargs="+", default=list(SETUPS), choices=list(SETUPS),
+                    help="the recognizer as before the late-pose re-ask, and as now")
+    ap.add_argument("--orders", nargs="+", default=list(ORDERS), choices=ORDERS,
+                    help="the camera's order: each pose before its image, or after it")
     ap.add_argument("--param", action="append", default=[], metavar="NAME:=VALUE",
-                    help="a recognizer parameter besides its defaults (repeatable)")
+                    help="a recognizer parameter besides the setup's (repeatable)")
     ap.add_argument("--out", help="JSON of the figures (default docs/results/driver_camera_"
                                   "<dataset>.json, which only a full run may write)")
-    ap.add_argument("--pose-first", action="store_true",
-                    help="the camera publishes each pose before its image (default: after it)")
     ap.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)  # the camera process
+    ap.add_argument("--pose-first", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--log", default="", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.serve:
@@ -229,39 +266,43 @@ def main(argv=None):
     if args.episodes < 1 or not args.timeout > 0:
         ap.error("--episodes must be at least 1 and --timeout more than 0")
     partial = [f for f, changed in (("--episodes", args.episodes != 40), ("--seed", args.seed != 7),
-                                    ("--timeout", args.timeout != 20.0), ("--param", bool(args.param)))
-               if changed]
+                                    ("--timeout", args.timeout != 20.0), ("--param", bool(args.param)),
+                                    ("--setups", args.setups != list(SETUPS)),
+                                    ("--orders", args.orders != list(ORDERS))) if changed]
     out = output(ap, args.out, RESULTS / f"driver_camera_{args.dataset}.json", partial)
     os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.report import write_json
 
     shown = objects(args.dataset, args.root, args.episodes, args.seed)
-    recognizer_exe = shutil.which("recognizer") or str(Path(sys.executable).parent / "recognizer")
-    params = [a for p in [f"checkpoint:={CHECKPOINT[args.dataset]}", *args.param] for a in ("-p", p)]
-    with tempfile.TemporaryDirectory(prefix="driver_camera_") as logs:
-        camera_log = Path(logs) / "camera.jsonl"
-        camera = start([sys.executable, __file__, "--serve", *(["--pose-first"] if args.pose_first else []),
-                        "--dataset", args.dataset, "--seed",
-                        str(args.seed), "--log", str(camera_log), *(["--root", args.root] if args.root else [])],
-                       Path(logs) / "camera.log", profile_free=True)
-        recognizer = start([recognizer_exe, "--ros-args", *params], Path(logs) / "recognizer.log")
-        try:
-            began = time.monotonic()
-            rows = goals(shown, camera, recognizer, args.timeout)
-            seconds = time.monotonic() - began
-        finally:
-            stop_processes([recognizer, camera])
-        model, avx = cpu()
-        result = {"cpu": model, "avx512f": "avx512f" in avx, "cpu_count": os.cpu_count(),
-                  "load_average": os.getloadavg(), "dataset": args.dataset, "episodes": len(shown),
-                  "seed": args.seed, "timeout_s": args.timeout, "recognizer_params": params,
-                  "camera": "driver_camera.py --serve: RealSense preset 640x480 16UC1, default QoS "
-                            "(reliable, keep-last 10), Fast DDS defaults, info, "
-                            f"{'pose, then image' if args.pose_first else 'image, then pose'}",
-                  "seconds": seconds, **figures(rows, camera_log), "goals_detail": rows}
+    model, avx = cpu()
+    result = {"cpu": model, "avx512f": "avx512f" in avx, "cpu_count": os.cpu_count(),
+              "dataset": args.dataset, "episodes": len(shown), "seed": args.seed, "timeout_s": args.timeout,
+              "camera": "driver_camera.py --serve: RealSense preset 640x480 16UC1, default QoS (reliable, "
+                        "keep-last 10), Fast DDS defaults (no profile), info, then pose and image "
+                        "in the run's order, all stamped like the request",
+              "setups": {name: SETUPS[name] + args.param for name in args.setups}, "runs": {}}
+    for order in args.orders:  # before and after, one after the other, on the same objects
+        for name in args.setups:
+            with tempfile.TemporaryDirectory(prefix="driver_camera_") as logs:
+                load = os.getloadavg()[0]
+                rows, figs, diagnostics = run(args.dataset, args.root, shown, args.seed,
+                                              SETUPS[name] + args.param, order == "pose_first",
+                                              args.timeout, logs)
+            result["runs"][f"{name}/{order}"] = {"load_average_1min": [load, os.getloadavg()[0]], **figs,
+                                                 "diagnostics": diagnostics, "goals_detail": rows}
+            print(summary(f"{name}/{order}", figs), flush=True)
     write_json(Path(out), result)
-    emit({k: v for k, v in result.items() if k != "goals_detail"})
+    emit({"runs": {k: {f: v[f] for f in ("unanswered", "s_per_view", "node_wait_ms")}
+                   for k, v in result["runs"].items()}})
+
+
+def summary(name, f):
+    """One run's figures in a line."""
+    w = f["node_wait_ms"]
+    return (f"{name:>17}: {f['unanswered']} of {f['goals']} unanswered, {f['s_per_view']:.2f} s a view, "
+            f"node's own wait p50 {w.get('p50', 0):.0f} ms p99 {w.get('p99', 0):.0f} ms, "
+            f"{f['views_own_wait_over_500ms']} of {f['views']} views over 0.5 s")
 
 
 if __name__ == "__main__":
