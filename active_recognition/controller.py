@@ -38,7 +38,7 @@ IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "im
 @dataclass
 class Pending:
     """An image waiting for the camera pose of its stamp (since: when the wait began; a newer
-    image keeps it)."""
+    image keeps it, and the two it replaced: older, in case their late poses come first)."""
 
     stamp: float
     metres: np.ndarray
@@ -46,6 +46,7 @@ class Pending:
     since: float
     arrived: float
     header: Any
+    older: tuple = ()
 
 
 def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
@@ -159,10 +160,11 @@ class Controller:
             return [Refuse("camera/pose", f"{name} refused: {e}")]
         self.poses.append((stamp, np.asarray(position, float), np.asarray(rotation, float)))
         self.expect_poses = True
-        if self.state == CLASSIFYING:
-            found = self.pose_at(self.pending.stamp)
+        for waiting in (self.pending, *self.pending.older) if self.state == CLASSIFYING else ():
+            found = self.pose_at(waiting.stamp)
             if found is not None:
-                self.waited.append(now - self.pending.since)
+                self.pending = waiting
+                self.waited.append(now - waiting.since)
                 return self.classify(now, found)
         return []
 
@@ -196,7 +198,9 @@ class Controller:
             return self.reject(now, f"image is {metres.shape[1]}x{metres.shape[0]} but the "
                                     f"camera_info is for {k.width}x{k.height}")
         since = self.pending.since if self.pending is not None else now
-        self.pending = Pending(stamp, metres, k, since, now if arrived is None else arrived, header)
+        older = () if self.pending is None else (replace(self.pending, older=()), *self.pending.older)
+        self.pending = Pending(stamp, metres, k, since, now if arrived is None else arrived, header,
+                               older[:2])
         found = self.pose_at(stamp)
         if found is None and (self.expect_poses or self.require_pose):  # it may still be on its way
             # a newer image replaces the waiting one but not its wait: with no poses at all, a
@@ -234,7 +238,7 @@ class Controller:
             if self.state == CLASSIFYING:
                 out += self.classify(now, found)
         elif self.state == CLASSIFYING and self.late_pose(now):
-            self.counts["reasked"] += 1  # the same view again: a camera's next pose brings the lost one too
+            self.counts["reasked"] += 1  # the same view: the camera's next pose brings the lost one
             out.append(self.ask(now, again=True))
         if self.running and self.elapsed(now) > self.timing.episode_timeout:
             self.pending = None
@@ -296,12 +300,11 @@ class Controller:
         return AskView(position, rotation, self.frame, now, again)
 
     def late_pose(self, now):
-        """Whether the waiting image, which answers the latest request (none asked again is on its
-        way), has waited pose_reask for its pose since the latest image came; never before a first
-        pose (a camera with none), nor with pose_reask 0."""
+        """Whether the waiting image, answering the latest request, waited pose_reask for its pose
+        since the latest image; never before a first pose, with TF's (late, not lost), or with 0."""
         wait, asked = self.timing.pose_reask, self.asked_at
-        return bool(wait and self.poses) and asked is not None and self.pending.stamp >= asked - 1e-6 \
-            and now - self.health.last_frame >= wait
+        return bool(wait and self.poses) and not self.require_pose and asked is not None and \
+            self.pending.stamp >= asked - 1e-6 and now - self.health.last_frame >= wait
 
     def reject(self, now, reason):
         self.counts["rejected"] += 1

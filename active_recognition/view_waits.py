@@ -19,7 +19,7 @@ PARTS = ("image", "pose", "compute")
 class ViewWaits:
     def __init__(self, recent=RECENT):
         self.recent = deque(maxlen=recent)  # (image, pose, compute) seconds of the latest views
-        self.episode = []                   # this episode's views: {"stamp", "image", "pose", "compute"}
+        self.episode = []                   # this episode's: {"stamp", "image", "pose", "compute"}
 
     def start(self):
         self.episode = []

@@ -24,7 +24,8 @@ camera's latency, plus the pose wait).
         [--timeout 20] [--setups before after] [--orders pose_first pose_last]
         [--param NAME:=VALUE ...] [--out FILE]
 
-Last line is JSON, also written to docs/results/driver_camera_<dataset>.json."""
+Last line is JSON, also written to docs/results/driver_camera_procedural.json (modelnet:
+docs/results/modelnet10/driver_camera_modelnet.json)."""
 import argparse
 import json
 import os
@@ -36,7 +37,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit, output, stop_processes
+from common import emit, output, results_dir, stop_processes
 from pose_wait import cpu, tail, waits_ms
 
 CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
@@ -44,7 +45,7 @@ CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
 # then the same as image_qos auto's with a reliable camera), and its defaults now
 SETUPS = {"before": ["pose_reask:=0.0", "image_qos:=reliable"], "after": []}
 ORDERS = ("pose_first", "pose_last")  # the camera publishes each pose before its image, or after
-DIAGNOSED = "wait p"  # /diagnostics keys kept: the waits' percentiles
+DIAGNOSED = ("wait p", "asked again", "resent")  # /diagnostics keys kept: the waits' percentiles, re-asks
 START_S = 180  # a process loading torch and a model beside others on a busy 2-core machine
 
 
@@ -160,7 +161,7 @@ def goals(shown, camera, recognizer, timeout):
         node.create_subscription(String, "/recognition/result", lambda m: results.append(json.loads(m.data)), 10)
         node.create_subscription(DiagnosticArray, "/diagnostics", lambda m: diagnostics.update(
             {k: v for s in m.status if s.name.endswith("recognizer: recognition")
-             for k, v in ma.status_values(s).items() if DIAGNOSED in k}), 10)
+             for k, v in ma.status_values(s).items() if any(d in k for d in DIAGNOSED)}), 10)
         params = AsyncParameterClient(node, "/driver_camera")
         client = ActionClient(node, Recognize, "/recognize")
 
@@ -255,8 +256,8 @@ def main(argv=None):
                     help="the camera's order: each pose before its image, or after it")
     ap.add_argument("--param", action="append", default=[], metavar="NAME:=VALUE",
                     help="a recognizer parameter besides the setup's (repeatable)")
-    ap.add_argument("--out", help="JSON of the figures (default docs/results/driver_camera_"
-                                  "<dataset>.json, which only a full run may write)")
+    ap.add_argument("--out", help="JSON of the figures (default the dataset's committed "
+                                  "driver_camera_<dataset>.json, which only a full run may write)")
     ap.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)  # the camera process
     ap.add_argument("--pose-first", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--log", default="", help=argparse.SUPPRESS)
@@ -269,7 +270,7 @@ def main(argv=None):
                                     ("--timeout", args.timeout != 20.0), ("--param", bool(args.param)),
                                     ("--setups", args.setups != list(SETUPS)),
                                     ("--orders", args.orders != list(ORDERS))) if changed]
-    out = output(ap, args.out, RESULTS / f"driver_camera_{args.dataset}.json", partial)
+    out = output(ap, args.out, results_dir(args.dataset) / f"driver_camera_{args.dataset}.json", partial)
     os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.report import write_json

@@ -74,8 +74,9 @@ class CameraInputs(list):
     an image finds its K and pose), each calling its callback."""
 
     def __init__(self, node, on_info, on_pose, on_image, mode="auto"):
-        pose_mode = "sensor_data" if mode == "auto" else mode  # measured: docs/results/driver_camera_procedural.json
-        super().__init__(SensorSubscription(node, kind, topic, callback, m) for kind, topic, callback, m in
+        pose_mode = "sensor_data" if mode == "auto" else mode  # driver_camera_procedural.json
+        super().__init__(SensorSubscription(node, kind, topic, callback, m)
+                         for kind, topic, callback, m in
                          ((CameraInfo, "depth/camera_info", on_info, mode),
                           (PoseStamped, "camera/pose", on_pose, pose_mode),
                           (Image, "depth/image", on_image, mode)) if callback is not None)
