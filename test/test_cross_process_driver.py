@@ -18,7 +18,7 @@ if not os.environ.get("CI"):
 
 pytestmark = pytest.mark.slow  # two processes that load torch, a model, a renderer
 
-GOALS = 4
+GOALS = 8
 TIMEOUT = 20.0  # seconds a goal may take to answer; a pose lost for its heartbeat costs 3 s a view
 
 
@@ -32,7 +32,8 @@ def test_every_goal_through_a_driver_camera_that_publishes_each_pose_first_is_an
     assert all(r["status"] in ("recognized", "unsure", "unknown") for r in rows), rows
     assert all(len(r["view_waits"]) == r["views"] > 0 for r in rows), rows  # each view's split
     assert figures["views"] == sum(r["views"] for r in rows)
-    # before the re-ask, about 3 views in 10 waited some 3 s for their pose's heartbeat
-    heartbeats = sum(v["pose"] > 2.5 for r in rows for v in r["view_waits"])
-    assert heartbeats <= 1, [r["view_waits"] for r in rows]
+    # without the re-ask about 3 poses in 10 are lost and each is waited for until its writer's
+    # next heartbeat, 0 to 3 s on (some 20 s over these views); with it, a second or two
+    waited = sum(v["pose"] for r in rows for v in r["view_waits"])
+    assert waited < 8.0, [r["view_waits"] for r in rows]
     assert {"view image wait p99 (ms)", "view pose wait p99 (ms)"} <= set(diagnostics), diagnostics
