@@ -37,7 +37,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import emit, output, results_dir, stop_processes
+from common import emit, one_line_errors, output, results_dir, stop_processes
 from pose_wait import cpu, tail, waits_ms
 
 CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
@@ -275,7 +275,8 @@ def main(argv=None):
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.report import write_json
 
-    shown = objects(args.dataset, args.root, args.episodes, args.seed)
+    with one_line_errors(ap):  # a root without the dataset, before any process starts
+        shown = objects(args.dataset, args.root, args.episodes, args.seed)
     model, avx = cpu()
     result = {"cpu": model, "avx512f": "avx512f" in avx, "cpu_count": os.cpu_count(),
               "dataset": args.dataset, "episodes": len(shown), "seed": args.seed, "timeout_s": args.timeout,
