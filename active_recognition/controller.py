@@ -13,6 +13,7 @@ times, then its view is given up for another (no view left: no_image); an episod
 way episode_timeout after its start (pauses not counted) ends with timeout."""
 from __future__ import annotations
 
+import time
 from collections import Counter, deque
 from dataclasses import dataclass, replace
 from typing import Any
@@ -28,6 +29,7 @@ from .recognizer import SensingConfig
 from .robot_time import RobotTime
 from .timing import Timing
 from .validation import InputError, checks
+from .view_waits import ViewWaits
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
 IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
@@ -36,7 +38,7 @@ IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "im
 @dataclass
 class Pending:
     """An image waiting for the camera pose of its stamp (since: when the wait began; a newer
-    image keeps it)."""
+    image keeps it, and the two it replaced: older, in case their late poses come first)."""
 
     stamp: float
     metres: np.ndarray
@@ -44,6 +46,7 @@ class Pending:
     since: float
     arrived: float
     header: Any
+    older: tuple = ()
 
 
 def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
@@ -78,6 +81,7 @@ class Controller:
         self.paused_for, self.resumed_state = 0.0, None
         self.counts, self.health = Counter(), Health()
         self.waited = deque(maxlen=1000)        # seconds each image waited for its pose
+        self.view_waits = ViewWaits()           # each view's wait for its image, its pose; compute
         self.cost, self.budget = cost, 0.0      # what views cost a robot; this episode's budget
         self.notes = []                         # one-off information the node logs once
 
@@ -98,6 +102,7 @@ class Controller:
         self.goal, self.header, self.pending, self.request = goal, None, None, None
         self.started, self.paused_for, self.state = now, 0.0, WAITING
         self.health.started(now)
+        self.view_waits.start()
         return out + [self.ask(now)]
 
     def cancel(self, now):
@@ -155,10 +160,11 @@ class Controller:
             return [Refuse("camera/pose", f"{name} refused: {e}")]
         self.poses.append((stamp, np.asarray(position, float), np.asarray(rotation, float)))
         self.expect_poses = True
-        if self.state == CLASSIFYING:
-            found = self.pose_at(self.pending.stamp)
+        for waiting in (self.pending, *self.pending.older) if self.state == CLASSIFYING else ():
+            found = self.pose_at(waiting.stamp)
             if found is not None:
-                self.waited.append(now - self.pending.since)
+                self.pending = waiting
+                self.waited.append(now - waiting.since)
                 return self.classify(now, found)
         return []
 
@@ -192,7 +198,9 @@ class Controller:
             return self.reject(now, f"image is {metres.shape[1]}x{metres.shape[0]} but the "
                                     f"camera_info is for {k.width}x{k.height}")
         since = self.pending.since if self.pending is not None else now
-        self.pending = Pending(stamp, metres, k, since, now if arrived is None else arrived, header)
+        older = () if self.pending is None else (replace(self.pending, older=()), *self.pending.older)
+        self.pending = Pending(stamp, metres, k, since, now if arrived is None else arrived, header,
+                               older[:2])
         found = self.pose_at(stamp)
         if found is None and (self.expect_poses or self.require_pose):  # it may still be on its way
             # a newer image replaces the waiting one but not its wait: with no poses at all, a
@@ -229,6 +237,9 @@ class Controller:
                                                f"s): assuming the requested view"))
             if self.state == CLASSIFYING:
                 out += self.classify(now, found)
+        elif self.state == CLASSIFYING and self.late_pose(now):
+            self.counts["reasked"] += 1  # the same view: the camera's next pose brings the lost one
+            out.append(self.ask(now, again=True))
         if self.running and self.elapsed(now) > self.timing.episode_timeout:
             self.pending = None
             out.append(Refuse("episode_timeout", f"the episode ran past episode_timeout "
@@ -254,7 +265,8 @@ class Controller:
                   "images matched to a measured pose (%)": 100.0 * self.counts["matched"] / max(
                       self.counts["classified"] + self.counts["unmatched"], 1),
                   "pose wait p99 (ms)": float(np.percentile(self.waited, 99)) * 1e3 if self.waited else "none",
-                  "requests resent": self.counts["resent"],
+                  **self.view_waits.values(), "requests resent": self.counts["resent"],
+                  "views asked again for a late pose": self.counts["reasked"],
                   "views unreachable": self.counts["unreachable"],
                   "view_timeout (s)": self.timing.view_timeout,
                   "episode_timeout (s)": self.timing.episode_timeout}
@@ -287,6 +299,13 @@ class Controller:
         self.asked_at = now
         return AskView(position, rotation, self.frame, now, again)
 
+    def late_pose(self, now):
+        """Whether the waiting image, answering the latest request, waited pose_reask for its pose
+        since the latest image; never before a first pose, with TF's (late, not lost), or with 0."""
+        wait, asked = self.timing.pose_reask, self.asked_at
+        return bool(wait and self.poses) and not self.require_pose and asked is not None and \
+            self.pending.stamp >= asked - 1e-6 and now - self.health.last_frame >= wait
+
     def reject(self, now, reason):
         self.counts["rejected"] += 1
         self.health.refuse(now)
@@ -307,6 +326,7 @@ class Controller:
         """The waiting image through the core, with its pose (None: the view asked for)."""
         p, self.pending, self.state, self.unposed = self.pending, None, WAITING, None
         try:
+            began = time.perf_counter()
             obs = self.core.observe(p.metres, p.k, *(found or (None, None)))
         except InputError as e:  # the image itself (its shape); a bug elsewhere is not an input
             return self.reject(now, str(e))
@@ -320,6 +340,7 @@ class Controller:
         if obs.status != "no_object":
             self.counts["classified"] += 1
             self.counts["matched"] += found is not None  # to its measured pose
+            self.view_waits.view(p.stamp, self.request, p.since, now, time.perf_counter() - began)
             self.header = p.header
             if last is None and self.over_budget():
                 last = self.core.finish()  # the next view would overrun the budget: answer now
@@ -370,7 +391,8 @@ class Controller:
 
     def end(self, now, obs):
         result = {**obs.result(), "travel": self.travel(), "elapsed": self.elapsed(now),
-                  "robot_seconds": self.cost.seconds(self.core.views_taken())}
+                  "robot_seconds": self.cost.seconds(self.core.views_taken()),
+                  "view_waits": self.view_waits.episode}
         end = End(obs, self.header, result, self.goal, frame=self.frame)
         self.health.ended(obs.status)
         self.state, self.goal, self.request, self.asked_at = ENDED, None, None, None

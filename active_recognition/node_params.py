@@ -44,7 +44,8 @@ class NodeConfig:
         "frame of next_view: the object's, origin at its box's centre, z up"))
     image_qos: str = option("auto", choices=QOS_MODES, help=(
         "reliability of depth/image, depth/camera_info, camera/pose (keep-last 1): auto = what "
-        "their publishers offer (reliable if all of them do; followed when they change), "
+        "their publishers offer (reliable if all of them do; followed when they change; "
+        "camera/pose best effort, its late poses asked again: pose_reask), "
         "reliable, or sensor_data (best effort). Best-effort frames over 512 kB from another "
         "process need config/fastdds_large_frames.xml on the camera's side"))
     record: str = option("", help=(

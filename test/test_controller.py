@@ -239,3 +239,75 @@ def test_the_waits_for_poses_are_recorded_for_every_image(loop, camera):
     report = loop.report(1.2)[2]
     assert report["pose wait p99 (ms)"] == pytest.approx(np.percentile([30.0, 0.0], 99))
     assert report["images matched to a measured pose (%)"] == 100.0
+
+
+def late_pose_loop(loop, camera, pose_reask=0.15):
+    """A loop that waits pose_wait 3.5 s and asks again after pose_reask; its first view answered
+    with its pose (poses come) at 0.5 s -> the request for the second view."""
+    loop.timing = Timing(view_timeout=3.0, pose_tolerance=0.05, pose_wait=3.5,
+                         pose_reask=pose_reask)
+    loop.default_threshold = 0.0  # never sure: the episode goes on
+    first = loop.start(0.0, max_views=10, sensing=SensingConfig(recentre=0.0))[0]
+    out = answer(loop, camera, first, 0.5)
+    assert kinds(out) == ["AskView", "Step"]
+    return out[0]
+
+
+def test_a_late_pose_has_its_view_asked_again_and_the_next_pose_is_used(loop, camera):
+    ask = late_pose_loop(loop, camera)
+    metres, position, rotation = camera.capture(*geometry_turned(ask))
+    assert loop.image(1.0, ask.stamp, metres) == [] and loop.state == "classifying"  # pose lost
+    assert loop.tick(1.14) == []
+    again = loop.tick(1.16)  # pose_reask after the image: the same view again
+    assert kinds(again) == ["AskView"] and again[0].again
+    assert np.allclose(again[0].position, ask.position)
+    assert loop.tick(1.4) == [] and loop.counts["reasked"] == 1  # its answer on its way: no other
+    metres, position, rotation = camera.capture(*geometry_turned(again[0]))
+    assert loop.image(1.5, again[0].stamp, metres) == [] and loop.tick(1.64) == []
+    third = loop.tick(1.66)  # the answer's pose late too: asked again once more
+    assert kinds(third) == ["AskView"] and third[0].again and loop.counts["reasked"] == 2
+    out = loop.pose(1.8, "object", third[0].stamp, position, rotation) + \
+        loop.image(1.8, third[0].stamp, metres, header="h3")
+    assert kinds(out) == ["AskView", "Step"] and out[1].header == "h3"
+    assert loop.counts["matched"] == 2
+    taken = loop.core.views_taken()[-1]  # the measured pose, not the view asked for
+    np.testing.assert_allclose(taken, geometry.view_from_position(position)[1:], atol=1e-5)
+    # the view's split: its image 0.5 s after the request, its pose 0.8 s after the image
+    view = loop.view_waits.episode[-1]
+    assert (view["stamp"], view["image"], view["pose"]) == (third[0].stamp, pytest.approx(0.5),
+                                                            pytest.approx(0.8))
+    report = loop.report(1.9)[2]
+    assert report["view pose wait p50 (ms)"] == pytest.approx(400.0)  # views 0 and 800 ms
+    assert report["view image wait p99 (ms)"] == pytest.approx(np.percentile([500.0, 500.0], 99))
+    assert report["views asked again for a late pose"] == 2
+    end = loop.cancel(2.0)[0]
+    assert [v["pose"] for v in end.result["view_waits"]] == [0.0, pytest.approx(0.8)]
+
+
+def test_a_pose_late_past_its_views_asking_again_still_finds_its_image(loop, camera):
+    ask = late_pose_loop(loop, camera)
+    metres, position, rotation = camera.capture(*geometry_turned(ask))
+    assert loop.image(1.0, ask.stamp, metres, header="h1") == []
+    again = loop.tick(1.16)
+    assert kinds(again) == ["AskView"]
+    assert loop.image(1.3, again[0].stamp, np.zeros_like(metres), header="h2") == []  # its answer
+    out = loop.pose(1.35, "object", ask.stamp, position, rotation)  # the first image's pose, late
+    assert kinds(out) == ["AskView", "Step"] and out[1].header == "h1"
+    assert loop.view_waits.episode[-1]["pose"] == pytest.approx(0.35)
+
+
+def test_no_view_is_asked_again_with_pose_reask_zero_nor_before_a_first_pose(loop, camera):
+    ask = late_pose_loop(loop, camera, pose_reask=0.0)
+    metres, _, _ = camera.capture(ask.position, ask.rotation)
+    assert loop.image(1.0, ask.stamp, metres) == []
+    assert [loop.tick(t) for t in (1.2, 2.0, 4.4)] == [[], [], []]  # until pose_wait
+    assert "Step" in kinds(loop.tick(4.6)) and loop.counts["reasked"] == 0
+    loop.timing, loop.require_pose = Timing(pose_wait=3.5, pose_reask=0.15), True  # TF: waited for
+    ask = loop.start(5.0)[-1]
+    assert loop.image(5.1, ask.stamp, metres) == [] and loop.tick(5.5) == []
+    loop.require_pose = False
+    loop.poses.clear()  # a camera that publishes no pose
+    loop.timing = Timing(pose_wait=3.5, pose_reask=0.15)
+    ask = loop.start(10.0)[-1]
+    assert loop.image(10.1, ask.stamp, metres) == [] and loop.tick(10.5) == []
+    assert loop.counts["reasked"] == 0

@@ -160,7 +160,7 @@ def test_a_silent_camera_ends_the_episode_with_no_image():
         result = recognize(executor, client, timeout=5)
         assert {k: v for k, v in result.items() if k != "elapsed"} == {
             "status": "no_image", "label": "", "probability": 0.0, "entropy": None, "views": 0,
-            "travel": 0.0, "robot_seconds": 0.0}
+            "travel": 0.0, "robot_seconds": 0.0, "view_waits": []}
         assert 4 * 0.2 <= result["elapsed"] < 5
         assert spin_until(executor, lambda: len(views) == 4, 1)  # 2 views x (1 try + 1 retry)
         positions = np.array([[v.pose.position.x, v.pose.position.y, v.pose.position.z]

@@ -236,6 +236,7 @@ def test_an_empty_scene_ends_with_no_object_after_max_empty_views():
         result = recognize(executor, client)
         assert result == {"status": "no_object", "label": "", "probability": 0.0,
                           "entropy": None, "views": 0, "travel": 0.0, "robot_seconds": 0.0,
+                          "view_waits": [],
                           "elapsed": pytest.approx(result["elapsed"])}
         assert 0 < result["elapsed"] < 10
         assert recognizer.loop.counts["empty"] == 2 and camera.sent == 3  # asked again twice, then gave up

@@ -8,7 +8,10 @@ cannot hear a best-effort publisher, and a best-effort one loses large frames th
 processes in UDP fragments (FastDDS: any frame above its 512 kB shared-memory segment), so
 `auto` does what rosbag2's recorder does: reliable when every publisher of the topic offers
 reliable, best effort otherwise (or while there is none), and it subscribes again when the
-publishers change (`follow`, called now and then).
+publishers change (`follow`, called now and then). Under `auto`, camera/pose is best effort
+whatever its publishers offer: a reliable pose lost beside a large frame comes again only at its
+writer's next heartbeat (3 s with Fast DDS's defaults), and holds back every later pose until
+then, where the recognizer asks for the view again at once (pose_reask) and takes the next.
 """
 import time
 
@@ -71,9 +74,12 @@ class CameraInputs(list):
     an image finds its K and pose), each calling its callback."""
 
     def __init__(self, node, on_info, on_pose, on_image, mode="auto"):
-        super().__init__(SensorSubscription(node, kind, topic, callback, mode) for kind, topic, callback in
-                         ((CameraInfo, "depth/camera_info", on_info), (PoseStamped, "camera/pose", on_pose),
-                          (Image, "depth/image", on_image)) if callback is not None)
+        pose_mode = "sensor_data" if mode == "auto" else mode  # driver_camera_procedural.json
+        super().__init__(SensorSubscription(node, kind, topic, callback, m)
+                         for kind, topic, callback, m in
+                         ((CameraInfo, "depth/camera_info", on_info, mode),
+                          (PoseStamped, "camera/pose", on_pose, pose_mode),
+                          (Image, "depth/image", on_image, mode)) if callback is not None)
         self.node, self.followed = node, time.monotonic()
 
     def follow(self):
