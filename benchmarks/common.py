@@ -116,3 +116,17 @@ def stop_processes(procs, grace=10.0):
             warnings.warn(f"{p.args[:3]} outlived SIGTERM by {grace:g} s: killed")
             p.kill()
             p.wait(timeout=grace)
+
+
+def show_object(executor, params, index, tries=3):
+    """Set a camera's `index` parameter through `params` (an AsyncParameterClient), asking again
+    up to `tries` times (idempotent: a response DDS dropped is asked for again): the response's
+    SetParametersResults, or None where none came."""
+    from rclpy.parameter import Parameter
+
+    from active_recognition.nodes.demo import spin_until
+    for _ in range(tries):
+        done = params.set_parameters([Parameter("index", value=index)])
+        if spin_until(executor, done.done, 10):
+            return done.result().results
+    return None

@@ -37,7 +37,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import emit, one_line_errors, output, results_dir, stop_processes
+from common import emit, one_line_errors, output, results_dir, show_object, stop_processes
 from pose_wait import cpu, tail, waits_ms
 
 CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
@@ -144,7 +144,6 @@ def ready(node, client, params):
 def goals(shown, camera, recognizer, timeout):
     """One Recognize goal per object of `shown` through the camera process -> [goal rows]."""
     from rclpy.action import ActionClient
-    from rclpy.parameter import Parameter
     from rclpy.parameter_client import AsyncParameterClient
     from diagnostic_msgs.msg import DiagnosticArray
     from std_msgs.msg import String
@@ -171,11 +170,7 @@ def goals(shown, camera, recognizer, timeout):
             raise RuntimeError(f"the loop did not come up within {START_S} s\n{tail(camera)}\n{tail(recognizer)}")
         rows = []
         for index, truth in shown:
-            for _ in range(3):  # idempotent: a response DDS dropped is asked for again
-                done = params.set_parameters([Parameter("index", value=index)])
-                if spin_until(executor, done.done, 10):
-                    break
-            else:
+            if show_object(executor, params, index) is None:
                 raise RuntimeError(f"the camera did not take object {index}\n{tail(camera)}")
             del results[:]
             began = time.monotonic()

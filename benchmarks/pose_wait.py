@@ -28,7 +28,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit, output, stop_processes
+from common import RESULTS, emit, output, show_object, stop_processes
 
 from active_recognition.controller import Timing
 
@@ -131,14 +131,11 @@ def run(ns, shown, recognizer, seed, camera=None, timeout=30.0):
             fail(f"the camera process in /{ns} did not come up within {START_S} s")
         began, results, right = time.monotonic(), [], []
         for index, truth in shown:
-            for _ in range(3):  # idempotent: a response DDS dropped is asked for again
-                done = params.set_parameters([Parameter("index", value=index)])
-                if spin_until(executor, done.done, 10):
-                    break
-            else:
+            taken = show_object(executor, params, index)
+            if taken is None:
                 fail(f"the camera in /{ns} did not take object {index} in 3 tries")
-            if not all(r.successful for r in done.result().results):
-                fail(f"the camera in /{ns} refused object {index}: {done.result().results}")
+            if not all(r.successful for r in taken):
+                fail(f"the camera in /{ns} refused object {index}: {taken}")
             result = recognize(executor, client, timeout=timeout) or \
                 {"status": "no result", "label": "", "views": 0}
             results.append({"index": index, "truth": truth, **result})

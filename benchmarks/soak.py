@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit, output, stop_processes
+from common import RESULTS, emit, output, show_object, stop_processes
 from pose_wait import camera_params, cpu, objects, ros_args, tail
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -89,13 +89,10 @@ class Soak:
         return cond()
 
     def show(self, index):
-        from rclpy.parameter import Parameter
-        for _ in range(3):
-            if self.spin_until(self.params.services_are_ready, START_S):
-                done = self.params.set_parameters([Parameter("index", value=index)])
-                if self.spin_until(done.done, 10) and all(r.successful for r in done.result().results):
-                    return True
-        return False
+        if not self.spin_until(self.params.services_are_ready, START_S):  # a camera started again
+            return False
+        taken = show_object(self.executor, self.params, index)
+        return taken is not None and all(r.successful for r in taken)
 
     def send(self, feedback):
         sent = self.client.send_goal_async(self.Recognize.Goal(), feedback_callback=feedback)

@@ -167,3 +167,14 @@ def need_tf2():
         if os.environ.get("CI"):
             pytest.fail(why)
         pytest.skip(why, allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def ros2_daemon():
+    """The `ros2` command line (test/ros2_cli.py: skipped without it, failed in CI); the daemon
+    its commands start in this run's domain is stopped after the module."""
+    from ros2_cli import need_ros2, ros2
+
+    need_ros2()
+    yield
+    ros2("daemon", "stop")

@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 ROS2 = Path(sys.executable).parent / "ros2"
+RECOGNIZE = "active_recognition_interfaces/action/Recognize"
 
 
 def environment():

@@ -16,7 +16,7 @@ from unittest import mock
 
 import pytest
 import yaml
-from ros2_cli import Running, need_ros2, nodes_up, ros2, until
+from ros2_cli import RECOGNIZE, Running, nodes_up, ros2, until
 
 from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_dataset
@@ -284,15 +284,6 @@ def test_a_shipped_models_bare_name_is_that_model_unless_a_file_of_that_name_is_
 
 
 # ---- the launch files run, as a ROS user types them (the ros2 command line that the set-up builds)
-RECOGNIZE = "active_recognition_interfaces/action/Recognize"
-
-
-@pytest.fixture(scope="module")
-def daemon():
-    """The ros2 commands start a daemon for this run's domain; it is stopped after the module."""
-    need_ros2()
-    yield
-    ros2("daemon", "stop")
 
 
 def send_goal(line):
@@ -322,7 +313,7 @@ def quick_start():
 
 
 @pytest.mark.slow
-def test_the_readmes_ros_quick_start_runs_as_written(tmp_path, daemon):
+def test_the_readmes_ros_quick_start_runs_as_written(tmp_path, ros2_daemon):
     """Each line of the README's ROS quick start, verbatim: both nodes up, a goal with feedback
     then a result (recognized), the result on recognition/result, a parameter set (and one out of
     range refused with its range), the lifecycle state; Ctrl-C ends both nodes cleanly."""
@@ -363,7 +354,7 @@ def test_the_readmes_ros_quick_start_runs_as_written(tmp_path, daemon):
 
 
 @pytest.mark.slow
-def test_ros2_launch_arguments_set_the_objects_and_where_the_pose_goes(tmp_path, daemon):
+def test_ros2_launch_arguments_set_the_objects_and_where_the_pose_goes(tmp_path, ros2_daemon):
     """objects:=twins pose_source:=topic: the camera shows the look-alike pairs, the recognizer
     loads twins.pt and reads camera/pose, as the nodes themselves say; a goal ends recognized."""
     with Running(["launch", "active_recognition", "active_recognition.launch.xml", "objects:=twins",
@@ -385,7 +376,7 @@ def test_ros2_launch_arguments_set_the_objects_and_where_the_pose_goes(tmp_path,
     (LAUNCH, "pose_sorce:=topic", "unknown launch argument 'pose_sorce' (did you mean 'pose_source'?)"),
     (REAL, "depth_imgae:=/d", "unknown launch argument 'depth_imgae' (did you mean 'depth_image'?)"),
 ])
-def test_a_wrong_launch_argument_is_refused_by_launch_with_its_name(daemon, path, given, said):
+def test_a_wrong_launch_argument_is_refused_by_launch_with_its_name(ros2_daemon, path, given, said):
     """A value outside the choices (launch's own check) or a name the file does not declare
     (launch/check_arguments.launch.py: launch alone would ignore it) ends the launch, no node started."""
     bad = ros2("launch", "active_recognition", path.name, given)
@@ -402,7 +393,7 @@ def test_the_argument_check_names_every_argument_the_file_declares(path):
 
 
 @pytest.mark.parametrize("path", [LAUNCH, REAL])
-def test_every_launch_argument_the_docs_name_is_one_the_file_declares(path, daemon):
+def test_every_launch_argument_the_docs_name_is_one_the_file_declares(path, ros2_daemon):
     """`ros2 launch --show-args` lists each NAME:= that docs/ros.md and the file's own comment use."""
     shown = ros2("launch", "active_recognition", path.name, "--show-args")
     assert shown.returncode == 0, shown
@@ -415,7 +406,7 @@ def test_every_launch_argument_the_docs_name_is_one_the_file_declares(path, daem
 
 
 @pytest.mark.slow
-def test_the_real_camera_launch_file_starts_the_recognizer_alone_on_a_realsenses_topics(tmp_path, daemon):
+def test_the_real_camera_launch_file_starts_the_recognizer_alone_on_a_realsenses_topics(tmp_path, ros2_daemon):
     with Running(["launch", "active_recognition", "real_camera.launch.xml", "depth_image:=/my/depth"],
                  tmp_path / "launch.log") as launch:
         launch.wait_for(r"recognizer ready")

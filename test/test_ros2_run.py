@@ -7,19 +7,10 @@ ament index, a managed recognizer driven through its states, the action's defini
 import re
 
 import pytest
-from ros2_cli import Running, need_ros2, nodes_up, ros2, until
-
-ACTION = "active_recognition_interfaces/action/Recognize"
+from ros2_cli import RECOGNIZE, Running, nodes_up, ros2, until
 
 
-@pytest.fixture(scope="module")
-def daemon():
-    need_ros2()
-    yield
-    ros2("daemon", "stop")
-
-
-def test_ros2_knows_the_package_its_executables_and_its_launch_files(daemon):
+def test_ros2_knows_the_package_its_executables_and_its_launch_files(ros2_daemon):
     assert ros2("pkg", "executables", "active_recognition").stdout.split("\n")[:2] == \
         ["active_recognition recognizer", "active_recognition simulated_camera"]
     assert "active_recognition" in ros2("pkg", "list").stdout.split()
@@ -27,10 +18,10 @@ def test_ros2_knows_the_package_its_executables_and_its_launch_files(daemon):
     assert xml.stdout.strip() == "active_recognition", xml
 
 
-def test_ros2_interface_show_prints_the_action_as_it_is_defined(daemon):
+def test_ros2_interface_show_prints_the_action_as_it_is_defined(ros2_daemon):
     from pathlib import Path
 
-    shown = ros2("interface", "show", ACTION)
+    shown = ros2("interface", "show", RECOGNIZE)
     assert shown.returncode == 0, shown
     source = Path(__file__).resolve().parents[1] / "interfaces" / "active_recognition_interfaces" / "action"
     fields = [line.split("#")[0].strip() for line in (source / "Recognize.action").read_text().splitlines()]
@@ -43,7 +34,7 @@ def test_ros2_interface_show_prints_the_action_as_it_is_defined(daemon):
 
 
 @pytest.mark.slow
-def test_ros2_run_starts_both_nodes_and_ros2_lifecycle_drives_a_managed_recognizer(tmp_path, daemon):
+def test_ros2_run_starts_both_nodes_and_ros2_lifecycle_drives_a_managed_recognizer(tmp_path, ros2_daemon):
     """`ros2 run` of each executable; with autostart:=false the recognizer waits unconfigured
     until `ros2 lifecycle set` configures and activates it; then a goal sent with
     `ros2 action send_goal` gets its answer; Ctrl-C ends each node with status 0."""
@@ -56,7 +47,7 @@ def test_ros2_run_starts_both_nodes_and_ros2_lifecycle_drives_a_managed_recogniz
         assert "Transitioning successful" in ros2("lifecycle", "set", "/recognizer", "configure").stdout
         assert "Transitioning successful" in ros2("lifecycle", "set", "/recognizer", "activate").stdout
         assert ros2("lifecycle", "get", "/recognizer").stdout.strip() == "active [3]"
-        done = ros2("action", "send_goal", "/recognize", ACTION, "{max_views: 3}", timeout=240)
+        done = ros2("action", "send_goal", "/recognize", RECOGNIZE, "{max_views: 3}", timeout=240)
         assert "Goal finished with status:" in done.stdout, done
         status = re.search(r"^\s*status: (\w+)$", done.stdout[done.stdout.rindex("Result:"):], re.M).group(1)
         assert status in ("recognized", "unsure", "unknown"), done.stdout
