@@ -93,15 +93,21 @@ class Running:
         self.stop()
 
 
-def until(args, pattern, timeout=120):
+def until(args, pattern, timeout=120, each=20):
     """`ros2 ARGS...` repeated until its output (stdout and stderr) matches `pattern`: the
-    match; fails with the last output when the time runs out."""
+    match; fails with the last output when the time runs out. A call that hangs past `each`
+    seconds is stopped and made again: a service call sent before discovery matched its server
+    (`ros2 lifecycle get` just after the node came up) waits for its response for ever."""
     end, last = time.monotonic() + timeout, None
     while True:
-        last = ros2(*args)
-        found = re.search(pattern, last.stdout + last.stderr)
-        if found:
-            return found
+        try:
+            last = ros2(*args, timeout=each)
+        except subprocess.TimeoutExpired as e:
+            last = f"timed out after {each} s: {e.stdout or ''} {e.stderr or ''}"
+        else:
+            found = re.search(pattern, last.stdout + last.stderr)
+            if found:
+                return found
         assert time.monotonic() < end, f"ros2 {' '.join(args)}: {pattern!r} not printed:\n{last}"
         time.sleep(0.5)
 

@@ -43,6 +43,7 @@ def test_ros2_run_starts_both_nodes_and_ros2_lifecycle_drives_a_managed_recogniz
             Running(["run", "active_recognition", "simulated_camera", "--ros-args", "-p", "index:=3"],
                     tmp_path / "camera.log") as camera:
         nodes_up("/recognizer", "/simulated_camera")
+        until(["service", "list"], r"/recognizer/change_state")
         until(["lifecycle", "get", "/recognizer"], r"^unconfigured \[1\]$")
         assert "Transitioning successful" in ros2("lifecycle", "set", "/recognizer", "configure").stdout
         assert "Transitioning successful" in ros2("lifecycle", "set", "/recognizer", "activate").stdout
