@@ -78,10 +78,20 @@ out_of_date() {
 }
 rebuilt=0  # a package built in this run: those after it, which use it, are built again too
 
+# installed_elsewhere NAME MODULE STAMP: true, and said so, where MODULE imports from outside the
+# prefix and no stamp of this script's is there (a ROS install keeps its own); one that imports
+# from the prefix without its stamp is a half-done install of this script's, built again
+installed_elsewhere() {
+  local where
+  where=$("$python" -c "import $2 as m; print(m.__file__)" 2>/dev/null) || return 1
+  [ ! -f "$3" ] && [ "${where#"$prefix"/}" = "$where" ] || return 1
+  echo "build_interfaces: $1 is installed already ($where); nothing to build"
+}
+
 # build NAME MODULE: interfaces/NAME into the prefix, unless up to date or installed elsewhere
 build() {
   local name=$1 module=$2 src=$root/interfaces/$1 build=$builds/$1
-  local stamp=$prefix/share/$name/active_recognition.stamp log=$build/build.log sum where start
+  local stamp=$prefix/share/$name/active_recognition.stamp log=$build/build.log sum start where
   sum=$( (cd "$src" && find . -type f | sort | xargs cat; cat "$root"/tools/interfaces_wheels.cmake \
           "$root"/tools/build_interfaces.sh; "$python" -VV) | sha256sum | cut -d' ' -f1)
   importable() { "$python" -c "import $module as m; print(m.__file__)" 2>/dev/null; }
@@ -89,10 +99,7 @@ build() {
     echo "build_interfaces: $name up to date in $prefix"
     return
   fi
-  if [ ! -f "$stamp" ] && where=$(importable); then
-    echo "build_interfaces: $name is installed already ($where); nothing to build"
-    return
-  fi
+  installed_elsewhere "$name" "$module" "$stamp" && return
   out_of_date "$name" && return
   command -v cmake >/dev/null || { echo "build_interfaces: needs cmake (>= 3.21)" >&2; exit 1; }
   rm -rf "$build" && mkdir -p "$build"
@@ -124,11 +131,8 @@ colcon_build() {
   local select=()
   [ $# = 0 ] || select=(--packages-select "$@")
   local stamp=$prefix/share/$name/active_recognition.stamp
+  installed_elsewhere "$name" "$module" "$stamp" && return
   where=$("$python" -c "import $module as m; print(m.__file__)" 2>/dev/null || true)
-  if [ ! -f "$stamp" ] && [ -n "$where" ] && [ "${where#"$prefix"/}" = "$where" ]; then
-    echo "build_interfaces: $name is installed already ($where); nothing to build"
-    return
-  fi
   if [ ! -e "$src" ]; then
     if [ -f "$stamp" ] && [ -n "$where" ]; then
       echo "build_interfaces: $name kept as it is in $prefix: its source is missing ($src)"

@@ -41,15 +41,11 @@ for exe in recognizer simulated_camera; do
   [ -x "$prefix/bin/$exe" ] || { echo "register_package: $prefix/bin/$exe is missing (pip install -e . first)" >&2; exit 1; }
   links+=("lib/$name/$exe=$prefix/bin/$exe")
 done
-current=1
-# a link that is not among them any more (its file renamed or gone) is stale
-[ -z "$(find "$prefix/share/$name" -type l 2>/dev/null | while read -r l; do
-          printf '%s\n' "${links[@]}" | grep -qxF "${l#"$prefix"/}=$(readlink "$l")" || echo "$l"; done)" ] \
-  || current=0
-for link in "${links[@]}"; do
-  [ "$(readlink "$prefix/${link%%=*}" 2>/dev/null)" = "${link#*=}" ] || current=0
-done
-if [ "$current" = 1 ] && [ -f "$marker" ] && [ "$(cat "$pth" 2>/dev/null)" = "$line" ]; then
+# the links there now, against those above: any missing, changed or stale (a file renamed or gone)
+there=$(find "$prefix/share/$name" "$prefix/lib/$name" -type l 2>/dev/null | while read -r l; do
+          echo "${l#"$prefix"/}=$(readlink "$l")"; done | sort)
+wanted=$(printf '%s\n' "${links[@]}" | sort)
+if [ "$there" = "$wanted" ] && [ -f "$marker" ] && [ "$(cat "$pth" 2>/dev/null)" = "$line" ]; then
   echo "register_package: $name up to date in $prefix's ament index"
   exit 0
 fi
