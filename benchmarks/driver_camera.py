@@ -50,15 +50,14 @@ START_S = 180  # a process loading torch and a model beside others on a busy 2-c
 
 
 def serve(args):
-    """The driver camera node, spun until SIGTERM or Ctrl-C."""
-    import rclpy
+    """The driver camera node, spun until SIGTERM or Ctrl-C (the nodes' own run_node)."""
     from geometry_msgs.msg import PoseStamped
     from rcl_interfaces.msg import SetParametersResult
-    from rclpy.executors import ExternalShutdownException
     from rclpy.node import Node
     from sensor_msgs.msg import CameraInfo, Image
 
     import msg_adapters as ma
+    from active_recognition.nodes import run_node
     from active_recognition.simulated_camera import SimulatedCamera, sensor_config
 
     class DriverCamera(Node):
@@ -100,15 +99,7 @@ def serve(args):
                                            "published": time.time()}) + "\n")
                 self.log.flush()
 
-    rclpy.init()
-    node = DriverCamera()
-    try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
+    return run_node(DriverCamera, ["driver_camera"], "driver_camera")
 
 
 def start(command, log, profile_free=False):

@@ -83,10 +83,8 @@ class Soak:
         self.camera_start = camera_start
 
     def spin_until(self, cond, timeout):
-        end = time.monotonic() + timeout
-        while not cond() and time.monotonic() < end:
-            self.executor.spin_once(timeout_sec=0.05)
-        return cond()
+        from active_recognition.nodes.demo import spin_until
+        return spin_until(self.executor, cond, timeout)
 
     def show(self, index):
         if not self.spin_until(self.params.services_are_ready, START_S):  # a camera started again
@@ -126,7 +124,9 @@ class Soak:
             other = record.pop("preempted_by")
             if other is not None and other.accepted:
                 self.spin_until(other.get_result_async().done, timeout)
-        states = {4: "SUCCEEDED", 5: "CANCELED", 6: "ABORTED"}
+        from action_msgs.msg import GoalStatus
+        states = {GoalStatus.STATUS_SUCCEEDED: "SUCCEEDED", GoalStatus.STATUS_CANCELED: "CANCELED",
+                  GoalStatus.STATUS_ABORTED: "ABORTED"}
         r = result.result()
         return {**record, "status": r.result.status, "state": states.get(r.status, str(r.status)),
                 "wall_s": time.monotonic() - began, "views": int(r.result.views),
