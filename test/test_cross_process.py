@@ -80,7 +80,9 @@ def episodes(ns, count, **params):
 
 
 def test_a_reliable_camera_with_a_floor_that_leaves_a_fifth_of_requests_unanswered(cameras):
-    results, views, recognizer = episodes("reliable", 3)
+    # no re-ask for a late pose (pose_reask 0): on a loaded machine its extra requests took the
+    # camera's seeded draws, and which requests went unanswered then depended on the load
+    results, views, recognizer = episodes("reliable", 3, pose_reask=0.0)
     assert all(r is not None for r in results)  # every episode ends with a status
     assert {r["status"] for r in results} <= {"recognized", "unsure", "no_image"}
     assert sum(r["status"] in ("recognized", "unsure") for r in results) >= 2  # an answer, sure or not
