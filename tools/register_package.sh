@@ -42,7 +42,8 @@ for exe in recognizer simulated_camera; do
   links+=("lib/$name/$exe=$prefix/bin/$exe")
 done
 # the links there now, against those above: any missing, changed or stale (a file renamed or gone)
-there=$(find "$prefix/share/$name" "$prefix/lib/$name" -type l 2>/dev/null | while read -r l; do
+# (in a fresh environment neither folder exists: find fails, and under pipefail so would this)
+there=$({ find "$prefix/share/$name" "$prefix/lib/$name" -type l 2>/dev/null || true; } | while read -r l; do
           echo "${l#"$prefix"/}=$(readlink "$l")"; done | sort)
 wanted=$(printf '%s\n' "${links[@]}" | sort)
 if [ "$there" = "$wanted" ] && [ -f "$marker" ] && [ "$(cat "$pth" 2>/dev/null)" = "$line" ]; then
