@@ -61,6 +61,9 @@ def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
             raise InputError(f"{name} must be 0 (the node's){lo} to {check.hi:g}{unit}, got {value}")
 
 
+FIRST_POSE_TRIES = 4  # tries of a view before any pose came, where camera/pose has a publisher
+
+
 class Controller:
     """One object at a time on `core` (recognizer.ActiveRecognizer)."""
 
@@ -211,8 +214,9 @@ class Controller:
             self.waited.append(now - since)  # none when its pose was there already
         return self.classify(now, found)
 
-    def tick(self, now):
-        """The node's timer: a late pose given up, an episode or a view timed out."""
+    def tick(self, now, pose_publishers=False):
+        """The node's timer: a late pose given up, an episode or a view timed out.
+        `pose_publishers`: camera/pose has a publisher (its first pose may be the lost one)."""
         if not self.running or self.state == PAUSED:
             return []
         out = []
@@ -237,7 +241,7 @@ class Controller:
                                                f"s): assuming the requested view"))
             if self.state == CLASSIFYING:
                 out += self.classify(now, found)
-        elif self.state == CLASSIFYING and self.late_pose(now):
+        elif self.state == CLASSIFYING and self.late_pose(now, pose_publishers):
             self.counts["reasked"] += 1  # the same view: the camera's next pose brings the lost one
             out.append(self.ask(now, again=True))
         if self.running and self.elapsed(now) > self.timing.episode_timeout:
@@ -299,12 +303,14 @@ class Controller:
         self.asked_at = now
         return AskView(position, rotation, self.frame, now, again)
 
-    def late_pose(self, now):
+    def late_pose(self, now, pose_publishers=False):
         """Whether the waiting image, answering the latest request, waited pose_reask for its pose
-        since the latest image; never before a first pose, with TF's (late, not lost), or with 0."""
+        since the latest image; never with TF's (late, not lost) or with 0, nor before a first pose
+        unless camera/pose has a publisher (a driver's first pose lost beside its frame)."""
         wait, asked = self.timing.pose_reask, self.asked_at
-        return bool(wait and self.poses) and not self.require_pose and asked is not None and \
-            self.pending.stamp >= asked - 1e-6 and now - self.health.last_frame >= wait
+        first = not self.poses and self.tries < FIRST_POSE_TRIES  # a publisher that never sends: bounded
+        return bool(wait and (self.poses or pose_publishers and first)) and not self.require_pose and \
+            asked is not None and self.pending.stamp >= asked - 1e-6 and now - self.health.last_frame >= wait
 
     def reject(self, now, reason):
         self.counts["rejected"] += 1

@@ -10,7 +10,7 @@ from conftest import sure_or_not
 
 from active_recognition import geometry
 from active_recognition.checkpoint import shipped
-from active_recognition.controller import AskView, Controller, End, Refuse, Step, Timing
+from active_recognition.controller import AskView, Controller, End, FIRST_POSE_TRIES, Refuse, Step, Timing
 from active_recognition.recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.simulated_camera import SimulatedCamera
 
@@ -311,3 +311,32 @@ def test_no_view_is_asked_again_with_pose_reask_zero_nor_before_a_first_pose(loo
     ask = loop.start(10.0)[-1]
     assert loop.image(10.1, ask.stamp, metres) == [] and loop.tick(10.5) == []
     assert loop.counts["reasked"] == 0
+
+
+def test_before_a_first_pose_a_view_is_asked_again_only_when_camera_pose_has_a_publisher(loop, camera):
+    """A driver's very first pose lost beside its frame: with a publisher of camera/pose there,
+    the view is asked again after pose_reask instead of waiting pose_wait (3.5 s)."""
+    loop.timing = Timing(pose_wait=3.5, pose_reask=0.15)
+    ask = loop.start(0.0)[-1]
+    metres, position, rotation = camera.capture(*geometry_turned(ask))
+    assert not loop.poses and loop.image(0.2, ask.stamp, metres) == []  # its pose lost
+    assert loop.tick(0.4) == []  # nobody publishes camera/pose (yet): no re-ask
+    again = loop.tick(0.4, pose_publishers=True)
+    assert kinds(again) == ["AskView"] and again[0].again and loop.counts["reasked"] == 1
+    out = loop.pose(0.6, "object", again[0].stamp, position, rotation) + \
+        loop.image(0.6, again[0].stamp, metres)
+    assert "Step" in kinds(out) and loop.counts["matched"] == 1
+    assert loop.view_waits.episode[-1]["pose"] == pytest.approx(0.4)  # from the first image
+
+
+def test_before_a_first_pose_a_publisher_that_never_sends_costs_a_bounded_number_of_tries(loop, camera):
+    loop.timing = Timing(pose_wait=3.5, pose_reask=0.15)
+    ask = loop.start(0.0)[-1]
+    metres, _, _ = camera.capture(*geometry_turned(ask))
+    now, asks = 0.2, 0
+    while now < 3.0:  # each try answered by an image 0.1 s after it, never a pose
+        out = loop.image(now, loop.asked_at, metres) + loop.tick(now + 0.2, pose_publishers=True)
+        asks += kinds(out).count("AskView")
+        now += 0.3
+    assert asks == loop.counts["reasked"] == FIRST_POSE_TRIES - 1
+    assert "Step" in kinds(loop.tick(3.8, pose_publishers=True))  # pose_wait from the first image

@@ -205,7 +205,8 @@ class FakeCamera(Node):
         super().__init__("fake_camera", context=ctx)
         self.image, self.pose, self.pose_delay, self.offset = image, pose, pose_delay, offset
         self.pub_image = self.create_publisher(Image, "depth/image", qos_profile_sensor_data)
-        self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos_profile_sensor_data)
+        if pose is not None:  # a camera without poses does not offer camera/pose
+            self.pub_pose = self.create_publisher(PoseStamped, "camera/pose", qos_profile_sensor_data)
         self.create_subscription(PoseStamped, "next_view", self.on_view, 10)
         self.sent, self.queue = 0, []
         self.create_timer(0.005, self.on_timer)

@@ -81,13 +81,20 @@ class CameraInputs(list):
                           (PoseStamped, "camera/pose", on_pose, pose_mode),
                           (Image, "depth/image", on_image, mode)) if callback is not None)
         self.node, self.followed = node, time.monotonic()
+        self.pose_publishers = self.count_pose_publishers()
+
+    def count_pose_publishers(self):
+        """Publishers of camera/pose (0 where it is not subscribed: pose_source tf)."""
+        return sum(self.node.count_publishers(sub.topic) for sub in self if sub.msg_type is PoseStamped)
 
     def follow(self):
-        """Every FOLLOW_S at most: each subscription follows its publishers (SensorSubscription)."""
+        """Every FOLLOW_S at most: each subscription follows its publishers (SensorSubscription),
+        and camera/pose's publishers are counted again."""
         if time.monotonic() - self.followed > FOLLOW_S:
             self.followed = time.monotonic()
             for sub in self:
                 sub.follow()
+            self.pose_publishers = self.count_pose_publishers()
 
     def close(self):
         for sub in self:
