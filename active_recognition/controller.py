@@ -33,6 +33,7 @@ from .view_waits import ViewWaits
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
 IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
+FIRST_POSE_TRIES = 4  # tries of a view before any pose came, where camera/pose has a publisher
 
 
 @dataclass
@@ -59,9 +60,6 @@ def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
         if not (value == 0 or check.lo <= value <= check.hi):  # NaN too
             lo = "" if check.lo == 0 else f" or {check.lo:g}"
             raise InputError(f"{name} must be 0 (the node's){lo} to {check.hi:g}{unit}, got {value}")
-
-
-FIRST_POSE_TRIES = 4  # tries of a view before any pose came, where camera/pose has a publisher
 
 
 class Controller:
@@ -129,13 +127,11 @@ class Controller:
         paused, self.state = now - self.paused_at, self.resumed_state
         self.paused_for += paused
         self.health.resumed(paused)
-        if self.state == CLASSIFYING:
-            self.state = WAITING
+        self.state = WAITING if self.state == CLASSIFYING else self.state  # its view asked again
         return [self.ask(now)] if self.running else []
 
     def info(self, now, k=None, refused=None):
-        """A camera_info: its intrinsics, or why it was refused (images then wait for one that
-        passes, rather than reach the model through the last one or a guess)."""
+        """A camera_info: its intrinsics, or why it was refused (images then wait for one that passes)."""
         if refused is not None:
             self.k, self.info_refused = None, refused
             return [Refuse("depth/camera_info", f"camera_info refused: {refused}")]
@@ -215,8 +211,7 @@ class Controller:
         return self.classify(now, found)
 
     def tick(self, now, pose_publishers=False):
-        """The node's timer: a late pose given up, an episode or a view timed out.
-        `pose_publishers`: camera/pose has a publisher (its first pose may be the lost one)."""
+        """The node's timer: a late pose given up or asked again (late_pose), a timeout."""
         if not self.running or self.state == PAUSED:
             return []
         out = []
@@ -305,12 +300,11 @@ class Controller:
 
     def late_pose(self, now, pose_publishers=False):
         """Whether the waiting image, answering the latest request, waited pose_reask for its pose
-        since the latest image; never with TF's (late, not lost) or with 0, nor before a first pose
-        unless camera/pose has a publisher (a driver's first pose lost beside its frame)."""
-        wait, asked = self.timing.pose_reask, self.asked_at
-        first = not self.poses and self.tries < FIRST_POSE_TRIES  # a publisher that never sends: bounded
-        return bool(wait and (self.poses or pose_publishers and first)) and not self.require_pose and \
-            asked is not None and self.pending.stamp >= asked - 1e-6 and now - self.health.last_frame >= wait
+        since the latest image; never with TF's (late, not lost) or 0, nor before a first pose
+        unless camera/pose has a `pose_publishers` (a driver's first pose lost beside its frame)."""
+        wait, asked, first = self.timing.pose_reask, self.asked_at, pose_publishers and self.tries < FIRST_POSE_TRIES
+        return bool(wait and (self.poses or first)) and not self.require_pose and asked is not None and \
+            self.pending.stamp >= asked - 1e-6 and now - self.health.last_frame >= wait
 
     def reject(self, now, reason):
         self.counts["rejected"] += 1

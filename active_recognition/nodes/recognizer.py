@@ -180,8 +180,7 @@ class Recognizer(LifecycleNode):
         if self.state != "active":
             return  # a tick already under way as the node deactivated
         self.inputs.follow()
-        self.apply(self.tf.poll(self.loop, self.now()) +
-                   self.loop.tick(self.now(), pose_publishers=self.inputs.pose_publishers > 0))
+        self.apply(self.tf.poll(self.loop, self.now()) + self.loop.tick(self.now(), self.inputs.pose_publishers > 0))
 
     def on_info(self, msg):
         try:
