@@ -9,15 +9,15 @@ import sys
 import warnings
 from pathlib import Path
 
-from . import command_options as co
-from .evaluate import EvalConfig
-from .options import Parser, add_flags
-from .train_config import TrainConfig
-from .validation import InputError, group, output_dir, output_file
+from active_recognition.argument_checks import InputError, group, output_dir, output_file
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.options import command_options as co
+from active_recognition.options.flags_and_parameters import Parser, add_flags
+from active_recognition.training.train_config import TrainConfig
 
 
 def cmd_render(args):
-    from .visualize import render_mesh
+    from active_recognition.training.visualize import render_mesh
 
     output_file(args.out, "--out", ".png")
     fov = None if args.fov is None else math.radians(args.fov)
@@ -28,7 +28,7 @@ def cmd_render(args):
 
 
 def cmd_dataset(args):
-    from .datasets import GENERATED, default_cache_dir, describe
+    from active_recognition.datasets import GENERATED, default_cache_dir, describe
 
     if args.contact_sheet is not None:
         output_file(args.contact_sheet, "--contact-sheet", ".png")
@@ -40,15 +40,15 @@ def cmd_dataset(args):
         "--cache-dir" if args.cache_dir is not None else "cache folder (ACTIVE_RECOGNITION_CACHE)")
     splits = describe(args.name, args.root, cache)
     if args.contact_sheet:
-        from .visualize import contact_sheet
+        from active_recognition.training.visualize import contact_sheet
         contact_sheet(args.name, args.root, splits, args.contact_sheet, args.sheet_split,
                       args.objects_per_class, args.views_per_object, args.seed)
         print(f"wrote {args.contact_sheet}")
 
 
 def cmd_train(args):
-    from .devices import distributed, finish_distributed
-    from .train import preset_config, train
+    from active_recognition.training.devices import distributed, finish_distributed
+    from active_recognition.training.train import preset_config, train
 
     cfg = preset_config(args.config, vars(args))
     train(cfg)
@@ -69,7 +69,7 @@ def need_rclpy(what):
 
 def cmd_demo(args):
     need_rclpy("the demo")
-    from .nodes.demo import run_demo
+    from active_recognition.nodes.demo import run_demo
     run_demo(objects=args.objects, seed=args.seed, checkpoint=args.checkpoint or "",
              planner=args.planner, dataset=args.dataset, camera=args.camera,
              record=args.record or "", time_budget=args.time_budget)
@@ -77,7 +77,7 @@ def cmd_demo(args):
 
 def cmd_recognize(args):
     need_rclpy("recognize")
-    from .nodes.recognize_client import run_goal
+    from active_recognition.nodes.recognize_client import run_goal
     from action_msgs.msg import GoalStatus
 
     result, state = run_goal(args.action, args.object_frame, args.object_size, args.max_views, args.timeout,
@@ -90,8 +90,8 @@ def cmd_recognize(args):
 def cmd_evaluate(args):
     import json
 
-    from .evaluate import EvalConfig, evaluate, planner_checkpoints, summary
-    from .run_metrics import load_run_pair
+    from active_recognition.evaluation.evaluate import EvalConfig, evaluate, planner_checkpoints, summary
+    from active_recognition.training.run_metrics import load_run_pair
 
     runs = load_run_pair(args.learned_metrics, args.reinforce_metrics)  # read before the work
     cfg = EvalConfig(**group(EvalConfig, vars(args)), keep_judge=args.judge is not None,

@@ -21,8 +21,8 @@ from pathlib import Path
 
 from common import emit, one_line_errors, results_dir
 
-from active_recognition.report import write_json
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.evaluation.report import write_json
 
 VIEWS = ("3", "6", "9")
 

@@ -25,15 +25,15 @@ from pathlib import Path
 import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
-from active_recognition import checkpoint
-from active_recognition.camera_episodes import camera_runs, robot_cost
 from active_recognition.datasets import default_cache_dir, open_dataset
-from active_recognition.evaluate import EvalConfig
-from active_recognition.node_params import RecognizerParameters
-from active_recognition.options import add_flags
-from active_recognition.recognizer import ActiveRecognizer
-from active_recognition.report import write_json
-from active_recognition.simulated_camera import PRESETS, sensor_config
+from active_recognition.evaluation.camera_episodes import camera_runs, robot_cost
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.options.recognizer_params import RecognizerParameters
+from active_recognition.runtime.active_recognizer import ActiveRecognizer
+from active_recognition.simulation.depth_sensor import PRESETS, sensor_config
 
 OBJECTS_DEFAULT = 0  # 0: the whole test split
 

@@ -29,16 +29,16 @@ from common import RESULTS, committed, one_line_errors, output, results_dir
 from results_page import write_results_page
 from tqdm import tqdm
 
-from active_recognition import checkpoint
-from active_recognition.camera_episodes import shown_size
 from active_recognition.datasets import default_cache_dir, open_dataset
-from active_recognition.episode import EpisodeConfig
-from active_recognition.evaluate import EvalConfig
-from active_recognition.options import add_flags
-from active_recognition.reach import ViewLimits
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.report import write_json
-from active_recognition.simulated_camera import SimulatedCamera, sensor_config
+from active_recognition.evaluation.camera_episodes import shown_size
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.model.episode import EpisodeConfig
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.simulation.depth_sensor import SimulatedCamera, sensor_config
 
 OBJECTS_DEFAULT = 200  # test objects of the committed tables
 # the recognizer node's default: nothing from below the object's support (an opaque floor)

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from active_recognition.checkpoint import shipped
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import OPEN_SET
-from active_recognition.validation import InputError
+from active_recognition.model.checkpoint import shipped
 
 RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
 FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results

@@ -24,17 +24,18 @@ import numpy as np
 import torch
 from common import emit, one_line_errors
 
-from active_recognition import geometry
 from active_recognition.datasets import GENERATED, default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.depth_layer import CameraConfig
-from active_recognition.evaluate import DECIMALS, EvalConfig
-from active_recognition.options import add_flags
-from active_recognition.policies import nearest_candidates
-from active_recognition.report import write_json
-from active_recognition.shared_classifier import train_shared
-from active_recognition.view_sets import (best_subset_accuracy, candidate_features, fixed_path,
-                                          subset_logits)
+from active_recognition.evaluation.evaluate import DECIMALS, EvalConfig
+from active_recognition.evaluation.report import write_json
+from active_recognition.evaluation.shared_classifier import train_shared
+from active_recognition.evaluation.view_sets import (
+    best_subset_accuracy, candidate_features, fixed_path, subset_logits,
+)
+from active_recognition.model.policies import nearest_candidates
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig
 
 
 def accuracy(logits, labels):

@@ -72,8 +72,8 @@ def rss_mb():
 def phase(args):
     """One phase in this process: open both splits through the cache (cold or warm); when warm,
     then build a scene per training shape. Prints the figures as a JSON line."""
-    from active_recognition.depth_layer import CameraConfig
-    from active_recognition.train import Shapes
+    from active_recognition.sensing.depth_layer import CameraConfig
+    from active_recognition.training.train import Shapes
 
     start_rss, start, cpu = rss_mb(), time.perf_counter(), time.process_time()
     splits = open_splits(args.dataset, args.root, ("train", "val", "test"), cache_dir=args.cache_dir)

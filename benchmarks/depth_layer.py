@@ -18,10 +18,10 @@ from common import emit, median_ms, paired_median_ms
 from embreex import rtcore_scene
 from embreex.mesh_construction import TriangleMesh
 
-from active_recognition import geometry
-from active_recognition.depth_layer import CameraConfig, DepthCamera, _DEVICE, render_batch, trace_all
-from active_recognition.devices import keep_freed_memory
-from active_recognition.meshes import normalise
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera, _DEVICE, render_batch, trace_all
+from active_recognition.sensing.meshes import normalise
+from active_recognition.training.devices import keep_freed_memory
 
 
 def rays(cam, view):

@@ -58,7 +58,7 @@ def serve(args):
 
     import msg_adapters as ma
     from active_recognition.nodes import run_node
-    from active_recognition.simulated_camera import SimulatedCamera, sensor_config
+    from active_recognition.simulation.depth_sensor import SimulatedCamera, sensor_config
 
     class DriverCamera(Node):
         def __init__(self):
@@ -259,7 +259,7 @@ def main(argv=None):
     out = output(ap, args.out, results_dir(args.dataset) / f"driver_camera_{args.dataset}.json", partial)
     os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    from active_recognition.report import write_json
+    from active_recognition.evaluation.report import write_json
 
     with one_line_errors(ap):  # a root without the dataset, before any process starts
         shown = objects(args.dataset, args.root, args.episodes, args.seed)

@@ -31,12 +31,13 @@ import numpy as np
 import torch
 from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
 
-from active_recognition import checkpoint, open_set
-from active_recognition.camera_episodes import camera_runs, recording_core
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.real_unknowns import near as is_near
-from active_recognition.report import write_json
-from active_recognition.simulated_camera import PRESETS
+from active_recognition.evaluation.camera_episodes import camera_runs, recording_core
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.simulation.depth_sensor import PRESETS
+from active_recognition.unknown import scores as open_set
 
 STEPS, AT, SEED = 10, (3, 6, 10), 1000
 WEIGHTS = np.linspace(0.0, 2.0, 21)
@@ -112,7 +113,8 @@ def paired_halves(known, unknown, base, other, folds, rng):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--root", required=True, help="ModelNet10's folder")
-    ap.add_argument("--checkpoint", default="modelnet10.pt", help="an ensemble (python -m active_recognition.combine; "
+    ap.add_argument("--checkpoint", default="modelnet10.pt", help="an ensemble (python -m "
+                    "active_recognition.training.write_ensemble; "
                     "default: the shipped modelnet10.pt, a judge beside a classifier)")
     ap.add_argument("--val-objects", type=int, default=0, help="the first N val objects of each group (0: all)")
     ap.add_argument("--camera", default="realsense", choices=PRESETS, help="the simulated camera (default realsense)")
@@ -131,7 +133,8 @@ def main(argv=None):
         path = checkpoint.model_path(args.checkpoint, "modelnet")
         model, _, ckpt = checkpoint.load_model(path)
         if "members" not in ckpt:
-            ap.error(f"{path}: not an ensemble (python -m active_recognition.combine A.pt B.pt --judges 0)")
+            ap.error(f"{path}: not an ensemble "
+                     "(python -m active_recognition.training.write_ensemble A.pt B.pt --judges 0)")
         judges = list(model.config.judges) or list(range(model.config.members))
         core = recording_core(path, "auto", STEPS)
         known = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]

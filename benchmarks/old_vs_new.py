@@ -17,14 +17,15 @@ import numpy as np
 import torch
 from common import emit, one_line_errors
 
-from active_recognition import checkpoint, geometry
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.depth_layer import CameraConfig
-from active_recognition.episode import Episode, EpisodeConfig, run
-from active_recognition.evaluate import DECIMALS
-from active_recognition.policies import make_planner
-from active_recognition.report import write_json
+from active_recognition.evaluation.evaluate import DECIMALS
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.model.episode import Episode, EpisodeConfig, run
+from active_recognition.model.policies import make_planner
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig
 
 ROOT = Path(__file__).resolve().parents[1]
 OLD = "ac4cc15"  # the last commit with the box-and-cylinder generator and its shipped model
@@ -38,7 +39,7 @@ def git_show(commit, path):
 def old_test_split(commit):
     """The old generator's test split (500 objects), built from its source in git."""
     src = git_show(commit, "active_recognition/datasets/procedural.py").decode()
-    src = src.replace("from ..meshes import normalise", "from active_recognition.meshes import normalise")
+    src = src.replace("from ..meshes import normalise", "from active_recognition.sensing.meshes import normalise")
     src = src.replace("from .base import", "from active_recognition.datasets.base import")
     spec = importlib.util.spec_from_loader("old_procedural", loader=None)
     mod = importlib.util.module_from_spec(spec)

@@ -19,7 +19,7 @@ accepted when 95 % of known ones are); then, at the operating point that accepts
 the known validation objects after 3, 6 and 9 views, the share of known test objects answered
 unknown, the share of unknown ones answered unknown, and the known accuracy counting an unknown
 answer as wrong. Where the checkpoint carries its own open_set (python -m
-active_recognition.open_set_fit), the same three at its stored per-step thresholds as the
+active_recognition.unknown.fit), the same three at its stored per-step thresholds as the
 recognizer answers (its hold: a confident answer that looks unknown waits), in episodes cut after
 3, 6 and 9 views and at their end (key `stored`), and the same for episodes of --compare's
 planner (default random: what choosing the views adds; key `compared`). Writes
@@ -33,15 +33,16 @@ from pathlib import Path
 import numpy as np
 from common import emit, one_line_errors, output, results_dir
 
-from active_recognition import checkpoint, open_set
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.evaluate import EvalConfig, checkpoint_split, sample_episodes
-from active_recognition.open_set_fit import episodes, node_planner, running
-from active_recognition.options import add_flags
-from active_recognition.reach import ViewLimits
-from active_recognition.report import write_json
-from active_recognition.validation import InputError
+from active_recognition.evaluation.evaluate import EvalConfig, checkpoint_split, sample_episodes
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.unknown import scores as open_set
+from active_recognition.unknown.fit import episodes, node_planner, running
 
 VIEWS = (3, 6, 9)
 FIT_OBJECTS = 600  # training objects whose states the Gaussians are fitted on

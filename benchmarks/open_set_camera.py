@@ -32,16 +32,17 @@ from pathlib import Path
 import numpy as np
 from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
 
-from active_recognition import checkpoint, open_set
-from active_recognition.camera_episodes import camera_runs, robot_cost
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.real_unknowns import near as is_near
-from active_recognition.evaluate import EvalConfig
-from active_recognition.node_params import RecognizerParameters
-from active_recognition.options import add_flags
-from active_recognition.recognizer import ActiveRecognizer
-from active_recognition.report import write_json
-from active_recognition.simulated_camera import PRESETS
+from active_recognition.evaluation.camera_episodes import camera_runs, robot_cost
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.options.recognizer_params import RecognizerParameters
+from active_recognition.runtime.active_recognizer import ActiveRecognizer
+from active_recognition.simulation.depth_sensor import PRESETS
+from active_recognition.unknown import scores as open_set
 
 OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or 83 real unknowns)
 CUTS = (3, 6, 9)
@@ -70,7 +71,7 @@ def run(ap, args):
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model = checkpoint.load_model(path)[0]
     if model.open_set is None:
-        ap.error(f"{path}: carries no open_set (python -m active_recognition.open_set_fit)")
+        ap.error(f"{path}: carries no open_set (python -m active_recognition.unknown.fit)")
     node = RecognizerParameters()  # the node's defaults
     sensing = replace(node.sensing, use_size=False) if args.no_size else node.sensing
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, sensing, node.limits)

@@ -29,12 +29,13 @@ import argparse
 import numpy as np
 from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
 
-from active_recognition import checkpoint, open_set
-from active_recognition.camera_episodes import camera_runs, full_length, recording_core
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
-from active_recognition.open_set_fit import prototype_means
-from active_recognition.report import write_json
-from active_recognition.simulated_camera import PRESETS
+from active_recognition.evaluation.camera_episodes import camera_runs, full_length, recording_core
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.simulation.depth_sensor import PRESETS
+from active_recognition.unknown import scores as open_set
+from active_recognition.unknown.fit import prototype_means
 
 STEPS = 10
 AT = (3, 6, 10)

@@ -21,15 +21,15 @@ from common import FOLDER, RESULTS, committed, emit, one_line_errors, output, re
 from results_page import write_results_page
 from robot_seconds import BUDGETS, robot_summary
 
-from active_recognition import checkpoint
-from active_recognition.checkpoint import MODELS, SHIPPED_FOR
 from active_recognition.datasets import default_cache_dir, open_dataset
-from active_recognition.evaluate import EvalConfig, evaluate, halves, summary
-from active_recognition.options import add_flags
-from active_recognition.policies import FIXED
-from active_recognition.reach import ViewLimits
-from active_recognition.report import PAPER_MODELNET10, write_json
-from active_recognition.run_metrics import read_metrics, training_time
+from active_recognition.evaluation.evaluate import EvalConfig, evaluate, halves, summary
+from active_recognition.evaluation.report import PAPER_MODELNET10, write_json
+from active_recognition.model import checkpoint
+from active_recognition.model.checkpoint import MODELS, SHIPPED_FOR
+from active_recognition.model.policies import FIXED
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.training.run_metrics import read_metrics, training_time
 
 ROOT = Path(__file__).resolve().parents[1]
 # the planners each dataset's shipped models serve, and the model file of each: the shipped

@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 from common import RESULTS, emit, output, show_object, stop_processes
 
-from active_recognition.controller import Timing
+from active_recognition.runtime.controller import Timing
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "config" / "fastdds_large_frames.xml"
@@ -57,7 +57,7 @@ def ros_args(params):
 
 def camera_params(seed, **extra):
     """Every field of the RealSense preset (640x480), procedural test objects, and `extra`."""
-    from active_recognition.simulated_camera import sensor_config
+    from active_recognition.simulation.depth_sensor import sensor_config
     return {**asdict(sensor_config("realsense")), "dataset": "procedural", "split": "test",
             "seed": seed, **extra}
 
@@ -108,7 +108,7 @@ def run(ns, shown, recognizer, seed, camera=None, timeout=30.0):
     from rclpy.parameter_client import AsyncParameterClient
 
     import msg_adapters as ma
-    from active_recognition.checkpoint import shipped
+    from active_recognition.model.checkpoint import shipped
     from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
     from active_recognition.nodes.recognizer import Recognizer
 
@@ -204,8 +204,8 @@ def main(argv=None):
     ap.add_argument("--out", help="JSON of the figures (default docs/results/pose_wait.json, "
                                   "the committed figures, which only a full run may write)")
     args = ap.parse_args(argv)
+    from active_recognition.argument_checks import SEED_MAX
     from active_recognition.datasets import default_cache_dir, open_dataset
-    from active_recognition.validation import SEED_MAX
     total = len(open_dataset("procedural", split="test", cache_dir=default_cache_dir()))
     if not 1 <= args.episodes <= total:
         ap.error(f"--episodes must be 1..{total} (the procedural test split), got {args.episodes}")
@@ -222,7 +222,7 @@ def main(argv=None):
     out = output(ap, args.out, RESULTS / "pose_wait.json", partial)
     os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    from active_recognition.report import write_json
+    from active_recognition.evaluation.report import write_json
 
     shown = objects(args.episodes, args.seed)
     model, avx = cpu()

@@ -21,8 +21,8 @@ from pathlib import Path
 
 from results_robot import camera_parts, load, pct, real_unknowns, robot_seconds
 
-from active_recognition.files import write_text
-from active_recognition.report import PAPER, PAPER_MODELNET10, PAPER_TRAINING_HOURS, table
+from active_recognition.atomic_files import write_text
+from active_recognition.evaluation.report import PAPER, PAPER_MODELNET10, PAPER_TRAINING_HOURS, table
 
 ROOT = Path(__file__).resolve().parents[1]
 TEMPLATE = Path(__file__).with_name("results_template.md")

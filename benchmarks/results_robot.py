@@ -8,7 +8,7 @@ uses, load and pct."""
 import json
 from pathlib import Path
 
-from active_recognition.report import table
+from active_recognition.evaluation.report import table
 
 
 def load(path):

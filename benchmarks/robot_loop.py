@@ -23,9 +23,9 @@ import numpy as np
 
 from common import emit, shipped_checkpoint, stop_processes
 
-from active_recognition.command_options import DemoOptions
-from active_recognition.options import add_flags
-from active_recognition.report import write_json
+from active_recognition.evaluation.report import write_json
+from active_recognition.options.command_options import DemoOptions
+from active_recognition.options.flags_and_parameters import add_flags
 
 ROOT = Path(__file__).resolve().parents[1]
 PROFILE = ROOT / "config" / "fastdds_large_frames.xml"

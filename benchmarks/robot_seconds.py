@@ -27,11 +27,11 @@ from pathlib import Path
 import numpy as np
 from common import RESULTS, emit, one_line_errors
 
-from active_recognition.evaluate import object_standard_error
-from active_recognition.geometry import travel
-from active_recognition.report import write_json
-from active_recognition.robot_time import RobotTime
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.evaluation.evaluate import object_standard_error
+from active_recognition.evaluation.report import write_json
+from active_recognition.runtime.robot_time import RobotTime
+from active_recognition.sensing.geometry import travel
 
 BUDGETS = (4.0, 8.0, 12.0, 16.0, 24.0)
 CUTS = (3, 6, 9)

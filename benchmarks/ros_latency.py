@@ -25,12 +25,12 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
+from active_recognition.evaluation.report import write_json
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
-from active_recognition.report import write_json
-from active_recognition.reprojection import auto_standoff
-from active_recognition.simulated_camera import sensor_config
+from active_recognition.sensing.reprojection import auto_standoff
+from active_recognition.simulation.depth_sensor import sensor_config
 
 # the RealSense preset (noise, holes, floor, 2 degrees of arm error) at two sizes
 VGA = {"width": 640, "height": 480, "fx": 385.0, "fy": 385.0}
@@ -125,7 +125,7 @@ def publish_stream(seconds, hz, camera):
     """The camera's process (run as `--publish`): a RealSense frame, its CameraInfo and its pose
     at `hz` for `seconds`, reliable, once the recognizer subscribes. Prints what it sent, JSON."""
     import rclpy
-    from active_recognition.simulated_camera import SimulatedCamera
+    from active_recognition.simulation.depth_sensor import SimulatedCamera
     sensor = sensor_config("realsense", **camera)
     sim = SimulatedCamera(sensor)
     sim.load(dataset="procedural", split="test", index=3)

@@ -19,8 +19,8 @@ from pathlib import Path
 from common import emit
 from results_page import write_results_page
 
-from active_recognition.evaluate import compare_runs
-from active_recognition.report import write_json
+from active_recognition.evaluation.evaluate import compare_runs
+from active_recognition.evaluation.report import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 VIEWS = {"ablations": 5, "view_head": 3, "twins_candidates": 3}

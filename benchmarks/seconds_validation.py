@@ -34,16 +34,16 @@ import torch
 from common import emit, one_line_errors, output, results_dir
 from robot_seconds import BUDGETS, spent, taken_within
 
-from active_recognition import checkpoint
-from active_recognition.camera_episodes import camera_runs, recording_core
 from active_recognition.datasets import default_cache_dir, open_splits
-from active_recognition.episode import EpisodeConfig, entropy
-from active_recognition.evaluate import EvalConfig, object_standard_error
-from active_recognition.geometry import travel
-from active_recognition.options import add_flags
-from active_recognition.report import write_json
-from active_recognition.robot_time import RobotTime
-from active_recognition.simulated_camera import PRESETS
+from active_recognition.evaluation.camera_episodes import camera_runs, recording_core
+from active_recognition.evaluation.evaluate import EvalConfig, object_standard_error
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.model.episode import EpisodeConfig, entropy
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.runtime.robot_time import RobotTime
+from active_recognition.sensing.geometry import travel
+from active_recognition.simulation.depth_sensor import PRESETS
 
 STEPS, CUTS, CHOOSE_BY = 10, (3, 6, 9), (4.0, 8.0, 12.0)
 COSTS, THRESHOLDS, STARTS, SEED = (0.0, 0.5, 1.0, 2.0, 4.0), (0.1, 0.2, 0.3, 0.5, 0.7), 1, 1000

@@ -21,13 +21,13 @@ import numpy as np
 import torch
 from common import emit, one_line_errors, results_dir
 
-from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_splits
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.evaluate import DECIMALS, EvalConfig, checkpoint_split, rollout, sample_episodes
-from active_recognition.options import add_flags
-from active_recognition.report import write_json
-from active_recognition.size_prior import fit
+from active_recognition.evaluation.evaluate import DECIMALS, EvalConfig, checkpoint_split, rollout, sample_episodes
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.model.size_prior import fit
+from active_recognition.options.flags_and_parameters import add_flags
 
 WEIGHTS = (0.25, 0.5, 0.75, 1.0)
 OUTLIERS = (0.01, 0.05, 0.2)

@@ -173,9 +173,9 @@ def main(argv=None):
     out = output(ap, args.out, RESULTS / "soak.json", partial)
     os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
-    from active_recognition.checkpoint import shipped
     from active_recognition.datasets import default_cache_dir, open_dataset
-    from active_recognition.report import write_json
+    from active_recognition.evaluation.report import write_json
+    from active_recognition.model.checkpoint import shipped
 
     total = len(open_dataset("procedural", split="test", cache_dir=default_cache_dir()))
     drawn = objects(total, args.seed)

@@ -17,7 +17,9 @@ import numpy as np
 import torch
 from torch.utils.flop_counter import FlopCounterMode
 
-from active_recognition import augment, depth_layer, losses
+from active_recognition.datasets import augment
+from active_recognition.sensing import depth_layer
+from active_recognition.training import losses
 
 SHARES = ("render", "augment", "encoder", "recurrent_heads", "optimizer", "data")
 
@@ -115,7 +117,7 @@ def matmul_flops(device, sizes=(512, 1024, 2048), repeat=10):
 def breakdown(trainer, stage, wrapper, steps, clock):
     """Median seconds of a step of `stage` and each share's median, its FLOPs per step, and the
     seconds a shape's scene took to build (once a run: not in the steps)."""
-    from active_recognition.train import batches
+    from active_recognition.training.train import batches
     cfg = trainer.cfg
     opt = trainer.optimizer(stage)
     clock.patch(opt, "step", "optimizer")

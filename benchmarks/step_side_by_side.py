@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from common import emit
 
-from active_recognition.report import write_json
+from active_recognition.evaluation.report import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 ONE_RUN = """

@@ -21,15 +21,16 @@ import torch
 from common import emit, one_line_errors
 from step_breakdown import Clock, SHARES, breakdown, instrument, matmul_flops
 
-from active_recognition import depth_layer, geometry, losses
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.depth_layer import CameraConfig, GRADIENT_RULES
-from active_recognition.losses import JointLoss
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.options import add_flags
-from active_recognition.train import Trainer, joint_loss
-from active_recognition.train_config import TrainConfig, preset_config
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.sensing import depth_layer, geometry
+from active_recognition.sensing.depth_layer import CameraConfig, GRADIENT_RULES
+from active_recognition.training import losses
+from active_recognition.training.losses import JointLoss
+from active_recognition.training.train import Trainer, joint_loss
+from active_recognition.training.train_config import TrainConfig, preset_config
 
 RECIPE = Path(__file__).resolve().parents[1] / "config/train_modelnet10.yaml"
 

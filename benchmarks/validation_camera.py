@@ -24,7 +24,7 @@ With --ship the chosen planner becomes modelnet10.pt's `default_planner` (the no
 `auto`) and docs/results/modelnet10/summary.json's: ModelNet10's model serves a robot's camera,
 so its default is chosen here, and benchmarks/planners.py keeps it. The `unknown` thresholds are
 fitted for the planner `auto` names: after a change, fit them again (python -m
-active_recognition.open_set_fit --camera realsense).
+active_recognition.unknown.fit --camera realsense).
 
 `--scores CSV` also writes the default planner's episodes of the first start, known and unknown,
 one row each: its group, object, class and `near`, and per view the answer, the prototype score,
@@ -41,16 +41,17 @@ from pathlib import Path
 import numpy as np
 from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
 
-from active_recognition import checkpoint, open_set
-from active_recognition.camera_episodes import camera_runs, recording_core
+from active_recognition.atomic_files import atomic_write
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.real_unknowns import near as is_near
-from active_recognition.evaluate import EvalConfig
-from active_recognition.files import atomic_write
-from active_recognition.options import add_flags
-from active_recognition.recognizer import NODE_PLANNERS
-from active_recognition.report import write_json
-from active_recognition.simulated_camera import PRESETS
+from active_recognition.evaluation.camera_episodes import camera_runs, recording_core
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.evaluation.report import write_json
+from active_recognition.model import checkpoint
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.runtime.active_recognizer import NODE_PLANNERS
+from active_recognition.simulation.depth_sensor import PRESETS
+from active_recognition.unknown import scores as open_set
 
 STEPS = 10
 CUTS = (3, 6, 9)  # views after which the closed-set answer is scored
@@ -154,7 +155,7 @@ def ship(path, chosen, summary):
         write_json(summary, {**json.loads(summary.read_text()), "default_planner": chosen,
                              "default_chosen_by": "validation_camera.json"})
     print(f"{path}: default planner {chosen}; its unknown thresholds are fitted for the planner auto "
-          f"names: after a change, python -m active_recognition.open_set_fit --camera realsense")
+          f"names: after a change, python -m active_recognition.unknown.fit --camera realsense")
 
 
 def run(ap, args):
@@ -180,7 +181,7 @@ def run(ap, args):
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model, _, ckpt = checkpoint.load_model(path)
     if model.open_set is None:
-        print(f"{path}: carries no open_set (python -m active_recognition.open_set_fit): its prototype "
+        print(f"{path}: carries no open_set (python -m active_recognition.unknown.fit): its prototype "
               f"score is not measured, and energy_mean breaks ties")
     default = args.reference or ckpt.get("default_planner") or "learned"
     val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]

@@ -13,10 +13,10 @@ from pathlib import Path
 
 from common import emit, one_line_errors, results_dir
 
-from active_recognition.evaluate import EvalConfig, evaluate, summary
-from active_recognition.options import add_flags
-from active_recognition.reach import ViewLimits
-from active_recognition.report import write_json
+from active_recognition.evaluation.evaluate import EvalConfig, evaluate, summary
+from active_recognition.evaluation.report import write_json
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.sensing.reach import ViewLimits
 
 
 def main():

@@ -17,7 +17,7 @@ from geometry_msgs.msg import PoseStamped
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float32MultiArray, MultiArrayDimension
 
-from active_recognition import geometry
+from active_recognition.sensing import geometry
 
 MAX_PIXELS = 4096 * 4096
 ENCODINGS = {"32FC1": (np.float32, 4), "16UC1": (np.uint16, 2)}

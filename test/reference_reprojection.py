@@ -13,10 +13,10 @@ import math
 
 import numpy as np
 
-from active_recognition import geometry
-from active_recognition.depth_layer import CameraConfig, normalise_depth
-from active_recognition.reprojection import Reprojection, support_height
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig, normalise_depth
+from active_recognition.sensing.reprojection import Reprojection, support_height
 
 
 def fill_holes(z, fillable=None, iterations=4, agree=0.05, across_jumps=False):

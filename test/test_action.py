@@ -20,13 +20,13 @@ from rclpy.action import ActionClient  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition import geometry  # noqa: E402
-from active_recognition.checkpoint import shipped  # noqa: E402
+from active_recognition.model.checkpoint import shipped  # noqa: E402
 from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognize_client import feedback_line, result_line  # noqa: E402
 from active_recognition.nodes.recognize_server import RecognizeServer  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
+from active_recognition.sensing import geometry  # noqa: E402
 
 Recognize = pytest.importorskip("active_recognition_interfaces.action").Recognize \
     if not __import__("os").environ.get("CI") else \
@@ -336,8 +336,8 @@ def test_the_client_refuses_in_one_line_and_exits_2(args, says):
 
 
 def test_the_client_sends_its_time_budget_in_the_goal(monkeypatch):
+    from active_recognition.argument_checks import InputError
     from active_recognition.nodes import recognize_client
-    from active_recognition.validation import InputError
 
     sent = []
     monkeypatch.setattr(recognize_client, "send", lambda executor, client, goal, timeout, out: sent.append(goal))

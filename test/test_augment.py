@@ -11,9 +11,9 @@ import torch
 import trimesh
 from test_training import TINY, cache, weights  # noqa: F401  (the cache fixture)
 
-from active_recognition.augment import Augment, MISS
-from active_recognition.depth_layer import CameraConfig, DepthCamera
-from active_recognition.train import TrainConfig, train
+from active_recognition.datasets.augment import Augment, MISS
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera
+from active_recognition.training.train import TrainConfig, train
 
 
 def long_box():
@@ -159,7 +159,7 @@ def test_dropout_only_turns_pixels_into_misses_at_the_rate_asked(source):
 
 
 def test_chances_drawn_from_numpy_hold_their_probability():
-    from active_recognition.augment import below
+    from active_recognition.datasets.augment import below
     chance = torch.tensor([0.0, 0.02, 0.5, 0.97])[:, None]
     hits = below((4, 200_000), chance, rng=np.random.default_rng(3)).float().mean(1)
     np.testing.assert_allclose(hits.numpy(), chance[:, 0].numpy(), atol=0.004)
@@ -170,7 +170,7 @@ def test_steep_dropout_drops_what_a_drivers_flying_pixel_filter_drops():
     """Against simulated_camera.edge_dropout on the same image in metres: the augmentation's
     angle is drawn in 70-85 degrees, so it drops at least what the filter drops at 85 and at
     most what it drops at 70; jumps to the background do not count."""
-    from active_recognition.simulated_camera import edge_dropout
+    from active_recognition.simulation.depth_sensor import edge_dropout
     config = CameraConfig(64, 64, radius=1.5)
     m = trimesh.creation.box(extents=(0.8, 0.5, 0.3))
     m.vertices[:, 2] += 0.1 * m.vertices[:, 0]  # a tilt: a steep top as well as a jump
@@ -197,7 +197,7 @@ def test_steep_dropout_drops_what_a_drivers_flying_pixel_filter_drops():
 def test_steep_dropout_looks_only_at_the_chosen_images_and_gives_what_all_of_them_would():
     """The chosen images alone are filtered: the same pixels as filtering every image and keeping
     the chosen ones, from the same draws (torch's generator and numpy's)."""
-    from active_recognition.augment import uniform
+    from active_recognition.datasets.augment import uniform
     config = CameraConfig(64, 64, radius=1.5)
     m = trimesh.creation.box(extents=(0.8, 0.5, 0.3))
     m.vertices[:, 2] += 0.1 * m.vertices[:, 0]

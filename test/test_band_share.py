@@ -10,15 +10,15 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import episode as episode_module
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets.twins import make_shape
-from active_recognition.depth_layer import DepthCamera
-from active_recognition.losses import ImitationLoss
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.policies import teacher_choice
-from active_recognition.reach import ViewLimits
-from active_recognition.train import TrainConfig, Trainer, train
-from active_recognition.validation import InputError
+from active_recognition.model import episode as episode_module
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.model.policies import teacher_choice
+from active_recognition.sensing.depth_layer import DepthCamera
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.training.losses import ImitationLoss
+from active_recognition.training.train import TrainConfig, Trainer, train
 
 TOP = ViewLimits(0.0, 90.0)
 TINY = dict(pretrain_epochs=1, joint_epochs=1, batch_size=5, max_shapes=20, steps=3,
@@ -90,7 +90,7 @@ def episodes(monkeypatch, dataset_cache):
         out = original(ep, *args, **kwargs)
         seen.append(torch.stack(ep.views[:len(out)]).detach().numpy())
         return out
-    monkeypatch.setattr("active_recognition.losses.run", spy)
+    monkeypatch.setattr("active_recognition.training.losses.run", spy)
     return seen
 
 

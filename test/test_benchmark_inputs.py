@@ -12,9 +12,9 @@ from pathlib import Path
 import pytest
 from conftest import load_benchmark, run_side_by_side
 
-from active_recognition.checkpoint import CheckpointError
 from active_recognition.datasets import default_cache_dir, open_dataset
-from active_recognition.evaluate import EvalConfig, halves
+from active_recognition.evaluation.evaluate import EvalConfig, halves
+from active_recognition.model.checkpoint import CheckpointError
 
 ROOT = Path(__file__).resolve().parents[1]
 PROCEDURAL = ROOT / "active_recognition/checkpoints/procedural.pt"  # a single network
@@ -194,7 +194,7 @@ def test_planners_ship_refuses_a_modelnet_model_that_records_no_default(tmp_path
 
     import torch
 
-    from active_recognition import checkpoint
+    from active_recognition.model import checkpoint
 
     planners_py = load_benchmark("planners")
     bare = tmp_path / "fresh.pt"

@@ -7,11 +7,12 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import checkpoint, open_set, open_set_fit
-from active_recognition.camera_episodes import CameraRun, camera_runs, full_length, shown_size
 from active_recognition.datasets import open_dataset
-from active_recognition.episode import EpisodeConfig
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.evaluation.camera_episodes import CameraRun, camera_runs, full_length, shown_size
+from active_recognition.model import checkpoint
+from active_recognition.model.episode import EpisodeConfig
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.unknown import fit as open_set_fit, scores as open_set
 
 
 @pytest.fixture()
@@ -43,7 +44,7 @@ def test_a_sensor_config_stands_for_its_preset_and_its_changes_reach_the_images(
     """camera_runs takes a SensorConfig as well as a preset's name (camera_parts' rows of the
     camera's defects): the preset's own config gives the same images, hence the same answers, and
     a camera that loses half its pixels gives other ones."""
-    from active_recognition.simulated_camera import sensor_config
+    from active_recognition.simulation.depth_sensor import sensor_config
 
     path = checkpoint.shipped("procedural")
     core = ActiveRecognizer(path, EpisodeConfig(2, 0.0), sensing=SensingConfig(use_size=False))
@@ -178,7 +179,7 @@ def test_shipping_the_validation_choice_records_it_for_the_nodes_auto(tmp_path):
 
     from conftest import load_benchmark
 
-    from active_recognition.recognizer import choose_planner
+    from active_recognition.runtime.active_recognizer import choose_planner
 
     vc = load_benchmark("validation_camera")
     path, summary = tmp_path / "m.pt", tmp_path / "summary.json"
@@ -226,7 +227,7 @@ def test_camera_parts_rows_take_each_defect_of_the_camera_away_alone():
 
     from conftest import load_benchmark
 
-    from active_recognition.simulated_camera import sensor_config
+    from active_recognition.simulation.depth_sensor import sensor_config
 
     parts = load_benchmark("camera_parts")
     args = SimpleNamespace(checkpoint=None, other_checkpoint=None, planners=[], sensor_parts=True)

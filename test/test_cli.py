@@ -17,11 +17,13 @@ import torch
 import trimesh
 from conftest import import_ros
 
-from active_recognition import checkpoint, cli, geometry
+from active_recognition import cli
 from active_recognition.cli import main
-from active_recognition.depth_layer import CameraConfig, DepthCamera
-from active_recognition.meshes import load_mesh
-from active_recognition.model import ModelConfig, RecurrentAttention
+from active_recognition.model import checkpoint
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera
+from active_recognition.sensing.meshes import load_mesh
 
 TINY_TRAIN = ["--dataset", "folder", "--pretrain-epochs", "1", "--joint-epochs", "1",
               "--batch-size", "4", "--steps", "2", "--views-per-shape", "2", "--eval-shapes", "2",

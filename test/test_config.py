@@ -9,16 +9,15 @@ from pathlib import Path
 
 import pytest
 
-from active_recognition.episode import EpisodeConfig
-from active_recognition.evaluate import EvalConfig
-from active_recognition.model import ModelConfig
-from active_recognition.node_params import CameraNodeConfig, NodeConfig, ObjectSource
-from active_recognition.reach import ViewLimits
-from active_recognition.recognizer import SensingConfig
-from active_recognition.simulated_camera import SensorConfig
-from active_recognition.train import TrainConfig
-from active_recognition.validation import (Check, InputError, arg, check_mapping, checks,
-                                           load_yaml)
+from active_recognition.argument_checks import Check, InputError, arg, check_mapping, checks, load_yaml
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.model.episode import EpisodeConfig
+from active_recognition.model.network import ModelConfig
+from active_recognition.options.recognizer_params import CameraNodeConfig, NodeConfig, ObjectSource
+from active_recognition.runtime.active_recognizer import SensingConfig
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.simulation.depth_sensor import SensorConfig
+from active_recognition.training.train import TrainConfig
 
 CONFIG = Path(__file__).resolve().parents[1] / "config"
 CONFIGS = [TrainConfig, EvalConfig, ModelConfig, EpisodeConfig, SensingConfig, SensorConfig, ViewLimits,

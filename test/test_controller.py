@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from conftest import sure_or_not
 
-from active_recognition import geometry
-from active_recognition.checkpoint import shipped
-from active_recognition.controller import AskView, Controller, End, FIRST_POSE_TRIES, Refuse, Step, Timing
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.simulated_camera import SimulatedCamera
+from active_recognition.model.checkpoint import shipped
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.runtime.controller import AskView, Controller, End, FIRST_POSE_TRIES, Refuse, Step, Timing
+from active_recognition.sensing import geometry
+from active_recognition.simulation.depth_sensor import SimulatedCamera
 
 
 @pytest.fixture(scope="module")

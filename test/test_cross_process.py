@@ -18,7 +18,7 @@ rclpy = import_ros("rclpy")
 from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
-from active_recognition.checkpoint import shipped  # noqa: E402
+from active_recognition.model.checkpoint import shipped  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 

@@ -30,11 +30,11 @@ from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.parameter_client import AsyncParameterClient  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition.checkpoint import shipped  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
-from active_recognition.episode import least_top_score  # noqa: E402
+from active_recognition.model.checkpoint import shipped  # noqa: E402
+from active_recognition.model.episode import least_top_score  # noqa: E402
 from active_recognition.nodes.demo import ros_session, spin_until  # noqa: E402
-from active_recognition.simulated_camera import sensor_config  # noqa: E402
+from active_recognition.simulation.depth_sensor import sensor_config  # noqa: E402
 
 Recognize = pytest.importorskip("active_recognition_interfaces.action").Recognize \
     if not os.environ.get("CI") else \

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 import trimesh
 
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import open_dataset, procedural
 from active_recognition.datasets.furniture import FACTORS, styles
 from active_recognition.datasets.parts import Style, leg, place, slab
 from active_recognition.datasets.procedural import CLASSES, make_shape
-from active_recognition.depth_layer import CameraConfig, DepthCamera
-from active_recognition.meshes import MeshError, load_mesh
-from active_recognition.validation import InputError
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera
+from active_recognition.sensing.meshes import MeshError, load_mesh
 
 CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
 CUBE_QUADS = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
@@ -338,8 +338,8 @@ def test_shapes_with_a_yaw_turn_each_object_by_its_own_seeded_yaw_within_the_bou
     every yaw within +-30 degrees, the same for the same seed and another for another; the
     shared classifier's fingerprint tells the turned shapes from the upright ones."""
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.meshes import yawed
-    from active_recognition.shared_classifier import fingerprint
+    from active_recognition.evaluation.shared_classifier import fingerprint
+    from active_recognition.sensing.meshes import yawed
     ds = open_dataset("twins", split="test", per_class=2)
     cam = CameraConfig(32, 32)
     upright, turned, again, other = (Shapes(ds, cam, yaw, seed) for yaw, seed in
@@ -365,7 +365,7 @@ def test_a_simulated_camera_opens_a_split_once_for_every_object_it_shows(tmp_pat
     cache folder opens it again; the meshes are the dataset's own."""
     import shutil
 
-    import active_recognition.simulated_camera as sc
+    import active_recognition.simulation.depth_sensor as sc
     opened = []
     real = sc.open_dataset
     monkeypatch.setattr(sc, "open_dataset", lambda *a, **k: opened.append(a) or real(*a, **k))

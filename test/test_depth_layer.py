@@ -10,8 +10,8 @@ import pytest
 import torch
 import trimesh
 
-from active_recognition import geometry as g
-from active_recognition.depth_layer import CameraConfig, DepthCamera, render_views
+from active_recognition.sensing import geometry as g
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera, render_views
 
 
 def sphere(radius=0.3, centre=(0.0, 0.0, 0.0), subdivisions=6):
@@ -191,7 +191,7 @@ def test_thousands_of_cameras_share_one_embree_device():
 
 
 def test_normalise_depth_maps_metres_misses_and_range_ends():
-    from active_recognition.depth_layer import normalise_depth
+    from active_recognition.sensing.depth_layer import normalise_depth
     cfg = CameraConfig()
     near, far = cfg.depth_range
     mid = (near + far) / 2

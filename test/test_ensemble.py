@@ -7,13 +7,14 @@ import pytest
 import torch
 import trimesh
 
-from active_recognition import checkpoint, open_set
-from active_recognition.combine import combine, main
-from active_recognition.depth_layer import CameraConfig, DepthCamera
-from active_recognition.ensemble import Ensemble
-from active_recognition.episode import Episode, EpisodeConfig, lookahead_logits, run
-from active_recognition.model import ModelConfig, RecurrentAttention, single_step
-from active_recognition.policies import ImitationPlanner
+from active_recognition.model import checkpoint
+from active_recognition.model.ensemble import Ensemble
+from active_recognition.model.episode import Episode, EpisodeConfig, lookahead_logits, run
+from active_recognition.model.network import ModelConfig, RecurrentAttention, single_step
+from active_recognition.model.policies import ImitationPlanner
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera
+from active_recognition.training.write_ensemble import combine, main
+from active_recognition.unknown import scores as open_set
 
 OPTIONS = dict(num_classes=3, hidden_size=16, feature_size=16, candidates=5, view_input=True, memory="rnn+max",
                loc_hidden=8)
@@ -132,9 +133,9 @@ def test_an_unknown_answer_fits_the_ensembles_state(pair, tmp_path):
 def test_the_node_reads_the_unknown_score_off_the_judges_logits(tmp_path, judges, dataset_cache, monkeypatch):
     """Through the recognizer's own path each view's energy is that of the judges' logits on the
     state it kept: member 1's alone, or the mean of both (the answer's own logits)."""
-    from active_recognition.camera_episodes import camera_runs
     from active_recognition.datasets import open_dataset
-    from active_recognition.recognizer import ActiveRecognizer, SensingConfig
+    from active_recognition.evaluation.camera_episodes import camera_runs
+    from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
 
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     ckpt = checkpoint.read(checkpoint.shipped("procedural"))

@@ -13,11 +13,12 @@ import pytest
 import torch
 from conftest import load_benchmark
 
-from active_recognition import checkpoint, geometry
-from active_recognition.evaluate import EvalConfig, evaluate, summary
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.run_metrics import training_time
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.evaluation.evaluate import EvalConfig, evaluate, summary
+from active_recognition.model import checkpoint
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.sensing import geometry
+from active_recognition.training.run_metrics import training_time
 
 
 @pytest.fixture(scope="module")
@@ -82,7 +83,7 @@ def test_the_oracle_raises_the_true_class_and_never_looks_twice(results):
     def true_prob(ro, t):
         return ro.probs[np.arange(len(ro.labels)), t, ro.labels].mean()
     assert true_prob(res["oracle"], 1) >= true_prob(res["random"], 1)
-    from active_recognition.policies import nearest_candidates
+    from active_recognition.model.policies import nearest_candidates
     picks = nearest_candidates(res["oracle"].views.reshape(-1, 2),  # the first view too
                                geometry.fibonacci_views(12)).reshape(12, -1)
     assert all(len(set(p)) == len(p) for p in picks)
@@ -121,7 +122,7 @@ def test_training_time_ratio_from_metrics():
 
 def test_training_time_reads_a_run_scored_every_few_epochs(tmp_path):
     """eval_every > 1 leaves the unscored epochs blank: they are skipped, not read as numbers."""
-    from active_recognition.run_metrics import load_run_metrics
+    from active_recognition.training.run_metrics import load_run_metrics
     text = ("stage,epoch,wall_s,acc_3\npretrain,1,100,\njoint,1,110,\njoint,2,120,0.80\n"
             "joint,3,130,\njoint,4,140,0.90\n")
     (tmp_path / "every2.csv").write_text(text)
@@ -153,7 +154,7 @@ def test_more_objects_than_the_split_holds_are_refused(results, tmp_path):
 
 
 def test_a_metrics_file_without_joint_rows_is_refused_by_name(tmp_path):
-    from active_recognition.run_metrics import load_run_metrics
+    from active_recognition.training.run_metrics import load_run_metrics
     good = "stage,epoch,wall_s,acc_3\npretrain,1,5.0,\njoint,1,9.5,0.75\n"
     (tmp_path / "good.csv").write_text(good)
     assert [r["acc_3"] for r in load_run_metrics(tmp_path / "good.csv")] == ["", "0.75"]
@@ -228,7 +229,7 @@ def test_results_page_names_a_template_section_without_its_value(tmp_path, monke
 
 
 def test_size_prior_records_of_shipped_models_go_where_the_results_page_reads_them(tmp_path):
-    from active_recognition.checkpoint import MODELS, shipped
+    from active_recognition.model.checkpoint import MODELS, shipped
     record_path = load_benchmark("size_prior").record_path
     folder = MODELS.resolve().parents[1] / "docs" / "results" / "modelnet10"
     assert record_path(shipped("modelnet")) == folder / "size_prior.json"
@@ -237,7 +238,7 @@ def test_size_prior_records_of_shipped_models_go_where_the_results_page_reads_th
 
 
 def test_shared_classifier_prefixes_equal_separate_calls():
-    from active_recognition.shared_classifier import MultiViewClassifier
+    from active_recognition.evaluation.shared_classifier import MultiViewClassifier
     torch.manual_seed(0)
     net = MultiViewClassifier(5, feature_size=8).eval()
     depth = torch.rand(3, 4, 64, 64) * 255
@@ -248,7 +249,7 @@ def test_shared_classifier_prefixes_equal_separate_calls():
 
 
 def test_compare_runs_repeats_the_evaluation_on_the_same_episodes(results):
-    from active_recognition.evaluate import compare_runs
+    from active_recognition.evaluation.evaluate import compare_runs
     res, cfg, _ = results  # the fixture's dataset cache stays set for the module
     table = compare_runs({"m": cfg.checkpoint, "m again": cfg.checkpoint}, starts=1, seed=cfg.seed,
                          steps=cfg.steps, objects=cfg.objects)
@@ -296,7 +297,7 @@ def test_study_section_tabulates_the_chosen_step_and_the_lead(tmp_path):
 
 
 def test_a_checkpoint_of_other_classes_is_refused(results, tmp_path):
-    from active_recognition.evaluate import compare_runs
+    from active_recognition.evaluation.evaluate import compare_runs
     model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, feature_size=8))
     checkpoint.save(tmp_path / "abc.pt", {"model": model.state_dict(), "model_args": model.config.to_dict(),
                                           "classes": ["a", "b", "c"]})
@@ -346,8 +347,8 @@ def test_results_page_puts_modelnet10_beside_the_papers_table(results, tmp_path)
 def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(results, monkeypatch):
     """The default planner is chosen on val, where the fixed path is picked too: the path gets
     one seeded half of the objects, every planner's episodes the other half, together all."""
-    import active_recognition.shared_classifier as shared
-    import active_recognition.view_sets as view_sets
+    import active_recognition.evaluation.shared_classifier as shared
+    import active_recognition.evaluation.view_sets as view_sets
     _, cfg, tmp = results
     seen = {}
 
@@ -375,7 +376,7 @@ def test_on_val_the_fixed_path_is_picked_on_objects_no_planner_is_scored_on(resu
 def test_a_model_without_a_view_head_is_refused_before_the_judge_trains(results, monkeypatch):
     """imitation and fixed+imitation need FC_view: a model without one is refused at once, not
     after minutes of training the shared classifier that finds the fixed path."""
-    import active_recognition.shared_classifier as shared
+    import active_recognition.evaluation.shared_classifier as shared
     _, cfg, tmp = results
 
     def trains(*a, **k):
@@ -391,10 +392,10 @@ def test_a_model_without_a_view_head_is_refused_before_the_judge_trains(results,
 def test_the_judge_goes_on_while_validation_rises_and_keeps_its_best(monkeypatch):
     import copy
 
-    import active_recognition.shared_classifier as shared
+    import active_recognition.evaluation.shared_classifier as shared
     from active_recognition.datasets import open_dataset
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.sensing.depth_layer import CameraConfig
 
     shapes = Shapes(open_dataset("procedural", split="test", per_class=1), CameraConfig(64, 64))
     scores, states = iter([0.50, 0.60, 0.605, 0.9]), []
@@ -416,10 +417,10 @@ def test_the_judge_goes_on_while_validation_rises_and_keeps_its_best(monkeypatch
 def test_a_judge_of_fewer_shapes_than_a_batch_still_learns():
     """10 shapes and batches of 32: one batch of all ten an epoch. Before, no batch at all, and
     the fixed path was picked by the untrained judge."""
-    import active_recognition.shared_classifier as shared
+    import active_recognition.evaluation.shared_classifier as shared
     from active_recognition.datasets import open_dataset
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.sensing.depth_layer import CameraConfig
 
     shapes = Shapes(open_dataset("procedural", split="test", per_class=1), CameraConfig(64, 64))
     torch.manual_seed(0)
@@ -429,10 +430,10 @@ def test_a_judge_of_fewer_shapes_than_a_batch_still_learns():
 
 
 def test_the_judges_validation_score_of_a_constant_classifier_is_its_class_share():
-    import active_recognition.shared_classifier as shared
+    import active_recognition.evaluation.shared_classifier as shared
     from active_recognition.datasets import open_dataset
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.depth_layer import CameraConfig
+    from active_recognition.sensing.depth_layer import CameraConfig
 
     val = Shapes(open_dataset("procedural", split="test", per_class=2), CameraConfig(64, 64))
     net = shared.MultiViewClassifier(10).eval()
@@ -447,7 +448,7 @@ def test_the_judges_validation_score_of_a_constant_classifier_is_its_class_share
 def test_the_summary_keeps_enough_decimals_to_print_each_accuracy_rightly():
     """2,631 of 2,697 episodes right is 97.55 %: printed 97.6 %. Kept to 4 decimals (0.9755,
     just below in binary) it printed 97.5; 2,318 of 2,697 (85.947 %) printed 86.0."""
-    from active_recognition.evaluate import Rollout
+    from active_recognition.evaluation.evaluate import Rollout
     n, steps = 2697, 3
     labels = np.zeros(n, dtype=np.int64)
     probs = np.zeros((n, steps, 2))

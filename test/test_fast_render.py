@@ -9,13 +9,14 @@ import pytest
 import torch
 import trimesh
 
-from active_recognition import geometry
-from active_recognition.augment import Augment
-from active_recognition.depth_layer import (CameraConfig, DepthCamera, both_cores, render_batch,
-                                            render_views, trace_all)
-from active_recognition.devices import keep_freed_memory
-from active_recognition.losses import KnownViews, float32_views
-from active_recognition.meshes import normalise
+from active_recognition.datasets.augment import Augment
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import (
+    CameraConfig, DepthCamera, both_cores, render_batch, render_views, trace_all,
+)
+from active_recognition.sensing.meshes import normalise
+from active_recognition.training.devices import keep_freed_memory
+from active_recognition.training.losses import KnownViews, float32_views
 
 CONFIG = CameraConfig(48, 48, radius=1.5)
 

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import checkpoint
+from active_recognition.atomic_files import atomic_path, atomic_write, write_text
 from active_recognition.datasets.base import save_npz_atomic
-from active_recognition.files import atomic_path, atomic_write, write_text
-from active_recognition.run_metrics import write_metrics
+from active_recognition.model import checkpoint
+from active_recognition.training.run_metrics import write_metrics
 
 
 class Unpicklable:

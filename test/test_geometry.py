@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from active_recognition import geometry as g
+from active_recognition.sensing import geometry as g
 
 
 def test_camera_at_theta_zero_sits_on_z_with_up_along_x():

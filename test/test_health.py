@@ -8,12 +8,12 @@ import math
 import numpy as np
 import pytest
 
-from active_recognition import plausible
-from active_recognition.health import Health, MIN_FRAMES, WINDOW_S
-from active_recognition.reach import ViewLimits
-from active_recognition.recognizer import ActiveRecognizer, least_top_score
-from active_recognition.simulated_camera import SimulatedCamera
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, least_top_score
+from active_recognition.runtime.health import Health, MIN_FRAMES, WINDOW_S
+from active_recognition.sensing import camera_input_bounds as plausible
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.simulation.depth_sensor import SimulatedCamera
 
 
 def test_a_silent_camera_during_an_episode_warns_and_a_frame_clears_it():

@@ -24,10 +24,10 @@ from std_srvs.srv import Trigger  # noqa: E402
 from vision_msgs.msg import Classification, LabelInfo  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition.checkpoint import shipped  # noqa: E402
+from active_recognition.model.checkpoint import shipped  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
-from active_recognition.recognizer import least_top_score  # noqa: E402
+from active_recognition.runtime.active_recognizer import least_top_score  # noqa: E402
 
 stop_processes = load_benchmark("common").stop_processes  # SIGTERM, then SIGKILL
 

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from active_recognition import meshes
 from active_recognition.datasets import base, default_cache_dir, open_dataset
+from active_recognition.sensing import meshes
 
 ROOT = Path(__file__).resolve().parents[1]
 TRI_V = [(0, 0, 0), (2, 0, 0), (0, 3, 0), (0, 0, 1)]

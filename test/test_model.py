@@ -10,12 +10,12 @@ import pytest
 import torch
 import trimesh
 
-from active_recognition.depth_layer import CameraConfig, DepthCamera, render_views
-from active_recognition.episode import Episode, EpisodeConfig, entropy, run
-from active_recognition.losses import JointLoss
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.policies import FixedPlanner
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.model.episode import Episode, EpisodeConfig, entropy, run
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.model.policies import FixedPlanner
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera, render_views
+from active_recognition.training.losses import JointLoss
 
 
 @pytest.mark.parametrize("encoder,size", [("compact", 64), ("wide", 64), ("alexnet", 227)])
@@ -68,7 +68,7 @@ WIDE = dict(encoder="wide", view_input=True, memory="rnn+max", candidates=5)
 def test_the_traced_single_step_gives_the_modules_numbers(config):
     """model.single_step (TorchScript, frozen, batch norms folded into the convolutions) against
     the module over a 4-step episode of one object: the same logits, increments and states."""
-    from active_recognition.model import single_step
+    from active_recognition.model.network import single_step
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(num_classes=6, hidden_size=32, feature_size=24, **config))
     with torch.no_grad():  # batch norms that are not the identity
@@ -160,9 +160,9 @@ def test_an_episodes_state_is_read_through_its_api_and_changed_only_by_its_metho
 
 
 def test_every_planner_is_a_planner():
-    from active_recognition.episode import Planner
-    from active_recognition.losses import ImitationLoss
-    from active_recognition.policies import make_planner, PLANNERS
+    from active_recognition.model.episode import Planner
+    from active_recognition.model.policies import make_planner, PLANNERS
+    from active_recognition.training.losses import ImitationLoss
     model = RecurrentAttention(ModelConfig(num_classes=3, candidates=8, view_input=True))
     box = trimesh.creation.box(extents=(0.6, 0.4, 0.3))
     cams = [DepthCamera(box.vertices, box.faces)]
@@ -351,7 +351,7 @@ def test_simulated_run_matches_manual_stepping():
 
 
 def test_step_weights_uniform_and_early():
-    from active_recognition.losses import step_weights
+    from active_recognition.training.losses import step_weights
     torch.testing.assert_close(step_weights(4), torch.full((4,), 0.25))
     early = step_weights(4, "early")
     h4 = 1 + 1 / 2 + 1 / 3 + 1 / 4
@@ -359,7 +359,7 @@ def test_step_weights_uniform_and_early():
 
 
 def test_joint_loss_is_the_weighted_sum_of_the_per_step_losses():
-    from active_recognition.losses import step_weights
+    from active_recognition.training.losses import step_weights
     cams, views, labels = tiny_batch()
     model = confident_model(0.3)
     with torch.no_grad():
@@ -372,7 +372,7 @@ def test_joint_loss_is_the_weighted_sum_of_the_per_step_losses():
 
 
 def test_initial_step_sets_the_untrained_increment():
-    from active_recognition.model import set_initial_step
+    from active_recognition.model.network import set_initial_step
     model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, max_step=0.8))
     set_initial_step(model, (0.1, -0.7))
     with torch.no_grad():
@@ -403,7 +403,7 @@ def test_a_max_memory_keeps_the_running_maximum_of_the_features_beside_the_rnn_s
             torch.testing.assert_close(logits, model.classify(state))
         assert model.score_views(state).shape == (2, 7) and delta.shape == (2, 2)
         # the privileged look-ahead runs the same step as the episode
-        from active_recognition.policies import lookahead_logits
+        from active_recognition.model.policies import lookahead_logits
         feats = torch.rand(2, 3, 5)
         views = torch.rand(3, 2)
         ahead = lookahead_logits(model, feats, state, views)
@@ -412,7 +412,7 @@ def test_a_max_memory_keeps_the_running_maximum_of_the_features_beside_the_rnn_s
 
 
 def test_random_views_in_training_jump_anywhere_at_their_rate_and_keep_the_rest_differentiable():
-    from active_recognition.geometry import wrap_view
+    from active_recognition.sensing.geometry import wrap_view
 
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=8, feature_size=8))
@@ -464,7 +464,7 @@ def test_fc_locs_hidden_layer_starts_silent_and_leaves_every_other_layer_as_with
 
 
 def test_an_episode_told_not_to_mirror_keeps_the_same_states_and_answers_as_mean():
-    from active_recognition.episode import Episode, EpisodeConfig
+    from active_recognition.model.episode import Episode, EpisodeConfig
 
     torch.manual_seed(2)
     model = RecurrentAttention(ModelConfig(num_classes=3, hidden_size=12, feature_size=8, view_input=True,
@@ -493,7 +493,7 @@ def test_the_wide_encoders_in_place_relus_give_the_numbers_and_gradients_of_plai
     with ReLUs that allocate, in training mode (batch statistics), channels-last as trained."""
     import copy
     from torch import nn
-    from active_recognition.devices import training_layout
+    from active_recognition.training.devices import training_layout
     torch.manual_seed(0)
     model = training_layout(RecurrentAttention(ModelConfig(encoder="wide", num_classes=4)), "cpu")
     plain = copy.deepcopy(model)

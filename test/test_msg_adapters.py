@@ -13,8 +13,8 @@ import_ros("sensor_msgs.msg")
 from sensor_msgs.msg import Image  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition import geometry  # noqa: E402
-from active_recognition.depth_layer import CameraConfig  # noqa: E402
+from active_recognition.sensing import geometry  # noqa: E402
+from active_recognition.sensing.depth_layer import CameraConfig  # noqa: E402
 
 
 def depth_image(rng, h=5, w=7):

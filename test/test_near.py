@@ -6,8 +6,8 @@ sizes in metres as built, determinism in the seed (their parts: test_unknowns.py
 import numpy as np
 import pytest
 
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets.near import KINDS, make_near, near_unknowns
-from active_recognition.validation import InputError
 
 
 @pytest.mark.parametrize("label", range(len(KINDS)))

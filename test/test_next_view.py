@@ -9,11 +9,12 @@ import math
 import numpy as np
 import pytest
 
-from active_recognition import checkpoint, geometry
-from active_recognition.depth_layer import MISS
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.reprojection import Frame
-from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
+from active_recognition.model import checkpoint
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import MISS
+from active_recognition.sensing.reprojection import Frame
+from active_recognition.simulation.depth_sensor import SensorConfig, SimulatedCamera
 
 GRID = [(t, p) for t in np.linspace(0.15, math.pi - 0.15, 7) for p in np.linspace(-3.0, 3.0, 6)]
 POLES = [(0.0, 0.0), (0.0, 1.2), (math.pi, -2.0)]

@@ -21,10 +21,10 @@ from sensor_msgs.msg import CameraInfo, Image  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition import geometry  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import PARAMS, Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
+from active_recognition.sensing import geometry  # noqa: E402
 
 # the recognizer's default is the ModelNet10 model; these loops show procedural objects
 PROCEDURAL = load_benchmark("common").shipped_checkpoint()

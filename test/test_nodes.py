@@ -23,15 +23,15 @@ from sensor_msgs.msg import Image  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition import geometry  # noqa: E402
 from active_recognition.datasets import default_cache_dir, open_dataset  # noqa: E402
-from active_recognition.node_params import RecognizerParameters  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
-from active_recognition.reach import ViewLimits  # noqa: E402
-from active_recognition.recognizer import ActiveRecognizer  # noqa: E402
-from active_recognition.simulated_camera import SimulatedCamera  # noqa: E402
+from active_recognition.options.recognizer_params import RecognizerParameters  # noqa: E402
+from active_recognition.runtime.active_recognizer import ActiveRecognizer  # noqa: E402
+from active_recognition.sensing import geometry  # noqa: E402
+from active_recognition.sensing.reach import ViewLimits  # noqa: E402
+from active_recognition.simulation.depth_sensor import SimulatedCamera  # noqa: E402
 
 common = load_benchmark("common")  # what the ROS benchmarks and these tests share
 shipped_checkpoint, stop_processes = common.shipped_checkpoint, common.stop_processes
@@ -166,8 +166,8 @@ def test_executor_never_queues_a_callback_twice(loop):
 
 def test_the_recognizer_loads_the_shipped_modelnet10_model_unless_told_otherwise():
     """A robot sees real objects: an empty `checkpoint` is modelnet10.pt, weights and planner."""
-    from active_recognition import checkpoint
-    from active_recognition.recognizer import choose_planner
+    from active_recognition.model import checkpoint
+    from active_recognition.runtime.active_recognizer import choose_planner
     model, classes, ckpt = checkpoint.load_model(checkpoint.shipped("modelnet"))
     with ros_session() as (ctx, executor):
         default = Recognizer(context=ctx)

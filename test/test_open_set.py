@@ -11,8 +11,8 @@ import pytest
 import torch
 from conftest import sure_or_not
 
-from active_recognition import open_set, open_set_fit
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.unknown import fit as open_set_fit, scores as open_set
 
 
 def test_auroc_matches_a_pair_count_with_ties():
@@ -84,7 +84,7 @@ def test_scores_of_a_record_are_per_step():
 
 
 def test_recorder_keeps_the_rollouts_own_logits_and_states():
-    from active_recognition.model import ModelConfig, RecurrentAttention
+    from active_recognition.model.network import ModelConfig, RecurrentAttention
 
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(num_classes=3)).eval()
@@ -108,9 +108,9 @@ def test_recorder_keeps_the_rollouts_own_logits_and_states():
 def test_recorded_rollout_agrees_with_its_answers(readout):
     from active_recognition.datasets import open_dataset
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.depth_layer import CameraConfig
-    from active_recognition.evaluate import EvalConfig, sample_episodes
-    from active_recognition.model import ModelConfig, RecurrentAttention
+    from active_recognition.evaluation.evaluate import EvalConfig, sample_episodes
+    from active_recognition.model.network import ModelConfig, RecurrentAttention
+    from active_recognition.sensing.depth_layer import CameraConfig
 
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(num_classes=10, readout=readout)).eval()
@@ -174,9 +174,9 @@ def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
     with a threshold below its mean energy; the label and probability stay in the result."""
     from dataclasses import replace
 
-    from active_recognition.reach import ViewLimits
-    from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-    from active_recognition.simulated_camera import SimulatedCamera
+    from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+    from active_recognition.sensing.reach import ViewLimits
+    from active_recognition.simulation.depth_sensor import SimulatedCamera
 
     sim = SimulatedCamera()
     sim.load(dataset="procedural", split="test", index=0)
@@ -204,15 +204,16 @@ def test_the_recognizer_ends_unknown_past_its_energy_keeping_its_best_guess():
 
 def stored_recognizer(tmp_path, name, means, threshold, sensing, score="prototype_mean", **episode):
     """An ActiveRecognizer on procedural.pt rewritten with a hand-made open_set entry."""
-    from active_recognition import checkpoint, open_set_fit
-    from active_recognition.reach import ViewLimits
-    from active_recognition.recognizer import ActiveRecognizer
+    from active_recognition.model import checkpoint
+    from active_recognition.runtime.active_recognizer import ActiveRecognizer
+    from active_recognition.sensing.reach import ViewLimits
+    from active_recognition.unknown import fit as open_set_fit
 
     path = tmp_path / f"{name}.pt"
     entry = {"score": score, "means": torch.as_tensor(means, dtype=torch.float32),
              "threshold": threshold, "fitted_on": {"by": "hand"}}
     open_set_fit.store(checkpoint.shipped("procedural"), entry, path)
-    from active_recognition.episode import EpisodeConfig
+    from active_recognition.model.episode import EpisodeConfig
     core = ActiveRecognizer(str(path), EpisodeConfig(**episode), seed=1, limits=ViewLimits(0.0, 90.0))
     core.reset(sensing=sensing)
     return core
@@ -230,12 +231,12 @@ def episode_states(core, sim):
 def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_path):
     """A checkpoint's open_set: states on a class mean end recognized; class means pointing
     away from every state end unknown, the best guess kept; the score is computed here anew."""
-    from active_recognition.recognizer import SensingConfig
-    from active_recognition.simulated_camera import SimulatedCamera
+    from active_recognition.runtime.active_recognizer import SensingConfig
+    from active_recognition.simulation.depth_sensor import SimulatedCamera
 
     sim = SimulatedCamera()
     sim.load(dataset="procedural", split="test", index=0)
-    from active_recognition import checkpoint
+    from active_recognition.model import checkpoint
 
     model, _, _ = checkpoint.load_model(checkpoint.shipped("procedural"))
     c, s = model.config.num_classes, model.config.state_size
@@ -285,7 +286,7 @@ def test_the_recognizer_ends_unknown_past_the_stored_prototype_threshold(tmp_pat
 def test_held_stops_end_at_the_first_confident_step_that_looks_known():
     """open_set.held_stops, the recognizer's hold measured after the fact: an episode ends at its
     first step with entropy below the threshold and a score at most the threshold, else last."""
-    from active_recognition.open_set import held_stops
+    from active_recognition.unknown.scores import held_stops
     sure, unsure = [0.98, 0.01, 0.01], [0.4, 0.3, 0.3]
     probs = np.array([[unsure, sure, sure, sure],    # confident from step 2, known-looking from 3
                       [sure, sure, sure, sure],      # confident and known-looking at once
@@ -305,8 +306,8 @@ def test_held_stops_end_at_the_first_confident_step_that_looks_known():
     (lambda e: e.update(score="energy_mean", threshold=[-3.0, float("nan")]), "energy_mean must be a finite"),
     (lambda e: e.pop("means"), "means")])
 def test_a_checkpoint_with_a_bad_open_set_is_refused_by_name(tmp_path, change, message):
-    from active_recognition import checkpoint
-    from active_recognition.checkpoint import CheckpointError
+    from active_recognition.model import checkpoint
+    from active_recognition.model.checkpoint import CheckpointError
 
     ckpt = checkpoint.read(checkpoint.shipped("procedural"))
     ckpt.pop("format")
@@ -326,9 +327,9 @@ def test_an_energy_mean_open_set_reads_the_views_energies(tmp_path):
     """A checkpoint whose open_set score is energy_mean: the episode's mean energy against its
     threshold decides, whatever the class means say (random here); a positive unknown_threshold
     still sets a prototype_mean threshold."""
-    from active_recognition import checkpoint
-    from active_recognition.recognizer import SensingConfig
-    from active_recognition.simulated_camera import SimulatedCamera
+    from active_recognition.model import checkpoint
+    from active_recognition.runtime.active_recognizer import SensingConfig
+    from active_recognition.simulation.depth_sensor import SimulatedCamera
 
     sim = SimulatedCamera()
     sim.load(dataset="procedural", split="test", index=0)
@@ -367,18 +368,19 @@ def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_pa
     """fit on a few procedural objects: means (steps, C, S) equal to the class means of states
     recorded anew, a threshold that accepts the asked share of the val objects' end scores, and a
     checkpoint that loads (weights_only) with it."""
-    from active_recognition import checkpoint, open_set_fit
     from active_recognition.datasets import open_splits, subset_with_every_class
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.depth_layer import CameraConfig
-    from active_recognition.evaluate import EvalConfig
+    from active_recognition.evaluation.evaluate import EvalConfig
+    from active_recognition.model import checkpoint
+    from active_recognition.sensing.depth_layer import CameraConfig
+    from active_recognition.unknown import fit as open_set_fit
 
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     path = checkpoint.shipped("procedural")
     entry = open_set_fit.fit(path, "procedural", objects=20, known_rate=0.8, steps=3, val_objects=10)
     model, classes, _ = checkpoint.load_model(path)
     assert tuple(entry["means"].shape) == (3, len(classes), model.config.state_size)
-    from active_recognition.episode import ROBOT  # the answer is fitted for the node's episodes
+    from active_recognition.model.episode import ROBOT  # the answer is fitted for the node's episodes
 
     cfg = EvalConfig(dataset="procedural", split="val", steps=3, size=False, shared=False,
                      entropy_threshold=ROBOT.entropy_threshold, travel_cost=ROBOT.travel_cost)
@@ -407,12 +409,13 @@ def test_open_set_fit_stores_means_of_training_states_and_a_val_threshold(tmp_pa
 def test_open_set_fit_on_energy_mean_holds_thresholds_of_the_val_energies(dataset_cache, monkeypatch):
     """fit --score energy_mean: its thresholds are held_thresholds (floor -inf) of the val
     episodes' running mean energies, recomputed here from their logits; a bad score is refused."""
-    from active_recognition import checkpoint, open_set, open_set_fit
     from active_recognition.datasets import open_splits
     from active_recognition.datasets.shapes import Shapes
-    from active_recognition.depth_layer import CameraConfig
-    from active_recognition.episode import ROBOT
-    from active_recognition.evaluate import EvalConfig
+    from active_recognition.evaluation.evaluate import EvalConfig
+    from active_recognition.model import checkpoint
+    from active_recognition.model.episode import ROBOT
+    from active_recognition.sensing.depth_layer import CameraConfig
+    from active_recognition.unknown import fit as open_set_fit, scores as open_set
 
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     path = checkpoint.shipped("procedural")
@@ -445,7 +448,8 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys, score,
 
     from conftest import load_benchmark
 
-    from active_recognition import checkpoint, open_set_fit
+    from active_recognition.model import checkpoint
+    from active_recognition.unknown import fit as open_set_fit
 
     model = checkpoint.load_model(checkpoint.shipped("procedural"))[0]
     means = torch.rand(3, model.config.num_classes, model.config.state_size, generator=torch.Generator().manual_seed(0))
@@ -470,7 +474,7 @@ def test_held_thresholds_reject_at_most_the_budget_at_every_cut_and_no_lower_one
     known episodes ending unknown (running score at the held end above its step's threshold) are
     at most (1 - rate) N, and lowering step k's threshold to the next score below it breaks
     that (each threshold is the least the budget allows), while the earlier ones stay put."""
-    from active_recognition.open_set import held_stops, held_thresholds
+    from active_recognition.unknown.scores import held_stops, held_thresholds
     rng = np.random.default_rng(0)
     probs = rng.dirichlet(np.full(4, 0.3), size=(200, 6))
     scores = np.cumsum(rng.random((200, 6)), 1) / np.arange(1, 7)
@@ -498,7 +502,7 @@ def test_held_thresholds_reject_at_most_the_budget_at_every_cut_and_no_lower_one
 
 
 def test_step_thresholds_run_on_past_their_last_step():
-    from active_recognition.open_set import step_thresholds
+    from active_recognition.unknown.scores import step_thresholds
     np.testing.assert_array_equal(step_thresholds(0.3, 3), [0.3, 0.3, 0.3])
     np.testing.assert_array_equal(step_thresholds([0.5, 0.4], 4), [0.5, 0.4, 0.4, 0.4])
     np.testing.assert_array_equal(step_thresholds(np.array([0.5, 0.4, 0.3]), 2), [0.5, 0.4])

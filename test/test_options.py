@@ -9,15 +9,16 @@ from pathlib import Path
 import pytest
 from conftest import import_ros
 
-from active_recognition import checkpoint, command_options as co
+from active_recognition.argument_checks import check_mapping, group
 from active_recognition.cli import build_parser
-from active_recognition.evaluate import EvalConfig
-from active_recognition.node_params import RecognizerParameters, SimulatedCameraParameters
-from active_recognition.options import leaves, parameters
-from active_recognition.reach import ViewLimits
-from active_recognition.reference import generated
-from active_recognition.train import TrainConfig, preset_config
-from active_recognition.validation import check_mapping, group
+from active_recognition.evaluation.evaluate import EvalConfig
+from active_recognition.model import checkpoint
+from active_recognition.options import command_options as co
+from active_recognition.options.flags_and_parameters import leaves, parameters
+from active_recognition.options.recognizer_params import RecognizerParameters, SimulatedCameraParameters
+from active_recognition.options_docs import generated
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.training.train import TrainConfig, preset_config
 
 COMMANDS = build_parser()._subparsers._group_actions[0].choices
 OPTIONS = {"render": co.RenderOptions, "dataset": co.DatasetOptions, "demo": co.DemoOptions,
@@ -32,7 +33,7 @@ def parse(command, *argv):
 def test_the_generated_docs_and_node_yaml_are_up_to_date():
     """docs/options.md and config/{recognizer,simulated_camera}.yaml are generated from the option
     fields. This fails when someone edits a field (its default, help or range) without running
-    `python -m active_recognition.reference --write`, or edits a generated file by hand."""
+    `python -m active_recognition.options_docs --write`, or edits a generated file by hand."""
     for path, text in generated().items():
         assert path.read_text(encoding="utf-8") == text, f"{path} is out of date: regenerate it"
 

@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import depth_layer, outliers
-from active_recognition.losses import PretrainLoss
-from active_recognition.train import TrainConfig, Trainer, train
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.sensing import depth_layer
+from active_recognition.training import outliers
+from active_recognition.training.losses import PretrainLoss
+from active_recognition.training.train import TrainConfig, Trainer, train
 
 TINY = dict(pretrain_epochs=2, joint_epochs=1, batch_size=6, max_shapes=24, steps=2, views_per_shape=2,
             eval_shapes=0, checkpoint_every=100, seed=5, policy="imitation", outlier_batch=4,
@@ -150,7 +151,7 @@ def test_real_outliers_take_their_share_from_the_train_split_alone(tmp_path):
 
 @pytest.mark.parametrize("margins", [None, [-1e3, 1e3]])
 def test_a_joint_batch_adds_a_finite_outlier_episode_term(tmp_path, margins):
-    from active_recognition.train import joint_loss
+    from active_recognition.training.train import joint_loss
 
     cfg = TrainConfig(**TINY, outliers=1.0, outlier_margins=margins, out=str(tmp_path / "on"))
     run = Trainer(cfg, progress=False)
@@ -193,8 +194,8 @@ def test_the_outlier_episode_leaves_the_batch_norms_running_statistics_alone():
     """running_statistics_kept: inside it a training model's batch norms normalise by the batch's
     own statistics (as a training step does) and keep their running ones; after it they update
     again at their own momentum."""
-    from active_recognition.model import ModelConfig, RecurrentAttention
-    from active_recognition.outliers import running_statistics_kept
+    from active_recognition.model.network import ModelConfig, RecurrentAttention
+    from active_recognition.training.outliers import running_statistics_kept
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(encoder="wide", num_classes=3)).train()
     norms = [m for m in model.modules() if isinstance(m, torch.nn.BatchNorm2d)]
@@ -211,9 +212,9 @@ def test_pretraining_sees_the_outliers_in_one_batch_with_the_known_images():
     """PretrainLoss with outliers: one forward of known and outlier images together (a wide
     encoder's batch norms see both, as in Hendrycks et al.), cross-entropy on the known part and
     weight x uniform_ce on the rest, computed here again from the same batch."""
-    from active_recognition.losses import PretrainLoss
-    from active_recognition.model import ModelConfig, RecurrentAttention
-    from active_recognition.outliers import OutlierInputs
+    from active_recognition.model.network import ModelConfig, RecurrentAttention
+    from active_recognition.training.losses import PretrainLoss
+    from active_recognition.training.outliers import OutlierInputs
     torch.manual_seed(0)
     model = RecurrentAttention(ModelConfig(encoder="wide", num_classes=3)).train()
     depth, labels = torch.rand(5, 64, 64) * 255, torch.tensor([0, 1, 2, 1, 0])

@@ -10,19 +10,21 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import geometry
 from active_recognition.datasets import open_dataset
 from active_recognition.datasets.shapes import Shapes
 from active_recognition.datasets.twins import CLASSES, PAIRS, make_shape
-from active_recognition.depth_layer import CameraConfig, DepthCamera
-from active_recognition.episode import Episode, EpisodeConfig, run
-from active_recognition.losses import ImitationLoss
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.policies import FixedPlanner, ImitationPlanner, make_planner, nearest_candidates
-from active_recognition.reach import ViewLimits
-from active_recognition.shared_classifier import MultiViewClassifier
-from active_recognition.view_sets import (best_fixed_views, best_subset_accuracy, candidate_features,
-                                          extend_fixed_views, fixed_path, subset_logits)
+from active_recognition.evaluation.shared_classifier import MultiViewClassifier
+from active_recognition.evaluation.view_sets import (
+    best_fixed_views, best_subset_accuracy, candidate_features, extend_fixed_views, fixed_path,
+    subset_logits,
+)
+from active_recognition.model.episode import Episode, EpisodeConfig, run
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.model.policies import FixedPlanner, ImitationPlanner, make_planner, nearest_candidates
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.training.losses import ImitationLoss
 
 
 def face_view(axis, sign, tilt=0.0):
@@ -55,7 +57,7 @@ def test_twins_differ_only_where_their_niche_faces(pair, held_out):
 def test_every_twins_telling_face_is_seen_from_a_view_a_robot_can_take(pair):
     """The recognizer's default reach (no view from below the object's support): among the
     paper's 50 views inside it, some tell each pair's twins apart."""
-    from active_recognition.reach import ViewLimits
+    from active_recognition.sensing.reach import ViewLimits
     views = ViewLimits(0.0, 90.0).initial_views(50)
     assert len(views) and (np.array([geometry.camera_position(*v)[2] for v in views]) >= -1e-9).all()
     for seed in (3, 11):
@@ -340,7 +342,7 @@ def test_the_oracle_takes_the_unvisited_candidate_after_which_the_answer_is_righ
 
 
 def test_revisit_penalty_counts_close_pairs_and_pushes_views_apart():
-    from active_recognition.losses import revisit_penalty
+    from active_recognition.training.losses import revisit_penalty
     far = torch.tensor([[[0.5, 0.0], [2.5, 3.0], [1.5, 1.5]]])
     assert float(revisit_penalty(far)) == 0.0  # every pair more than 30 degrees apart
     close = torch.tensor([[[1.0, 0.0], [1.0, 0.1], [2.5, 3.0]]], requires_grad=True)
@@ -354,8 +356,8 @@ def test_revisit_penalty_counts_close_pairs_and_pushes_views_apart():
 
 
 def test_recognizer_planner_auto_is_the_checkpoint_default_and_oracle_is_refused(tmp_path):
-    from active_recognition import checkpoint
-    from active_recognition.recognizer import ActiveRecognizer, choose_planner
+    from active_recognition.model import checkpoint
+    from active_recognition.runtime.active_recognizer import ActiveRecognizer, choose_planner
     model = small_model()
     payload = {"model": model.state_dict(), "model_args": model.config.to_dict(),
                "classes": ["a", "b", "c"]}
@@ -382,7 +384,7 @@ def test_hybrid_adds_the_depth_layer_gradient_to_reinforce():
     """With explore_through (the hybrid) the classification loss reaches FC_loc through the
     sampled increments and the depth layer; with plain REINFORCE it does not at all, and the
     sampled views are the same either way."""
-    from active_recognition.losses import steps_loss
+    from active_recognition.training.losses import steps_loss
     ds = open_dataset("twins", split="test", per_class=1)
     cams = [DepthCamera(*ds.mesh(i)) for i in range(3)]
     views = geometry.fibonacci_views(50)[[3, 20, 41]]
@@ -417,7 +419,7 @@ def test_imitation_loss_trains_fc_view_and_not_fc_loc():
 
 
 def test_evaluation_defaults_to_the_embedded_datasets_own_shipped_model():
-    from active_recognition.evaluate import EvalConfig, checkpoint_split
+    from active_recognition.evaluation.evaluate import EvalConfig, checkpoint_split
     for name in ("procedural", "twins"):
         model, classes, shapes, _ = checkpoint_split(None, EvalConfig(dataset=name))
         assert classes == list(shapes.ds.classes) and shapes.ds.name == name
@@ -425,9 +427,9 @@ def test_evaluation_defaults_to_the_embedded_datasets_own_shipped_model():
 
 
 def test_a_view_taken_far_from_its_request_marks_both_and_a_spent_sphere_ends_the_episode(tmp_path):
-    from active_recognition import checkpoint
-    from active_recognition.policies import exhausted, nearest_candidates, visited_mask
-    from active_recognition.recognizer import ActiveRecognizer
+    from active_recognition.model import checkpoint
+    from active_recognition.model.policies import exhausted, nearest_candidates, visited_mask
+    from active_recognition.runtime.active_recognizer import ActiveRecognizer
 
     model = small_model(candidates=8)
     checkpoint.save(tmp_path / "m.pt", {"model": model.state_dict(),
@@ -457,7 +459,7 @@ def test_a_view_taken_far_from_its_request_marks_both_and_a_spent_sphere_ends_th
 
 
 def test_distillation_teaches_fc_loc_the_increment_toward_the_oracles_view():
-    from active_recognition.losses import increment_toward
+    from active_recognition.training.losses import increment_toward
 
     view = torch.tensor([[1.0, 3.0], [1.0, 0.2], [0.5, -0.1]])
     goal = torch.tensor([[1.3, -3.0], [2.5, 0.4], [0.4, 0.1]])
@@ -504,7 +506,7 @@ def test_imitation_with_random_views_jumps_to_unvisited_candidates_at_its_rate()
 
 
 def test_stage_loc_targets_fc_views_moves_and_fitting_teaches_them_to_fc_loc_alone():
-    from active_recognition.losses import LocLoss, increment_toward
+    from active_recognition.training.losses import LocLoss, increment_toward
 
     model = small_model(candidates=8, loc_hidden=16)
     cams = [DepthCamera(*make_shape(k, 3, False)) for k in range(4)]
@@ -538,8 +540,8 @@ def nn_mse(a, b):
 
 
 def test_stage_loc_refuses_more_than_one_process(monkeypatch):
-    from active_recognition.losses import LocLoss
-    from active_recognition.validation import InputError
+    from active_recognition.argument_checks import InputError
+    from active_recognition.training.losses import LocLoss
 
     model = small_model(candidates=8, loc_hidden=4)
     monkeypatch.setattr(torch.distributed, "is_initialized", lambda: True)
@@ -553,8 +555,8 @@ def test_the_teacher_in_bfloat16_ranks_the_candidates_as_in_float32():
     """teacher_precision: the candidates' features in bfloat16 are float32's to bfloat16's
     precision, so the teacher's loss and choices barely move; float32 and bfloat16 are as asked,
     auto follows the hardware, anything else is refused by name."""
-    from active_recognition.devices import teacher_dtype
-    from active_recognition.validation import InputError
+    from active_recognition.argument_checks import InputError
+    from active_recognition.training.devices import teacher_dtype
     assert teacher_dtype("float32", "cpu") is None and teacher_dtype("bfloat16", "cpu") is torch.bfloat16
     assert teacher_dtype("auto", "cpu") in (None, torch.bfloat16)
     with pytest.raises(InputError, match="teacher_precision must be one of"):

@@ -12,16 +12,16 @@ import pytest
 import torch
 from conftest import sure_or_not
 
-from active_recognition import geometry, plausible
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets.twins import make_shape
-from active_recognition.depth_layer import DepthCamera
-from active_recognition.episode import Episode, EpisodeConfig
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.policies import make_planner
-from active_recognition.reach import BLOCK_RADIUS, Reach, ViewLimits, angles_between
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
-from active_recognition.validation import InputError
+from active_recognition.model.episode import Episode, EpisodeConfig
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.model.policies import make_planner
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.sensing import camera_input_bounds as plausible, geometry
+from active_recognition.sensing.depth_layer import DepthCamera
+from active_recognition.sensing.reach import BLOCK_RADIUS, Reach, ViewLimits, angles_between
+from active_recognition.simulation.depth_sensor import SensorConfig, SimulatedCamera
 
 
 def elevations(views):
@@ -204,7 +204,7 @@ def test_object_size_and_standoff_have_physical_bounds():
 
 
 def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monkeypatch, dataset_cache):
-    from active_recognition.evaluate import EvalConfig, evaluate
+    from active_recognition.evaluation.evaluate import EvalConfig, evaluate
 
     monkeypatch.setenv("ACTIVE_RECOGNITION_CACHE", str(dataset_cache))
     cfg = EvalConfig(planners=("learned", "random", "straight", "oracle"), objects=6, steps=4,
@@ -221,8 +221,8 @@ def test_evaluate_keeps_every_planner_and_start_inside_the_limits(tmp_path, monk
 
 
 def test_training_keeps_to_the_limits_and_imitation_never_targets_a_view_outside():
-    from active_recognition.losses import ImitationLoss, JointLoss
-    from active_recognition.train import TrainConfig
+    from active_recognition.training.losses import ImitationLoss, JointLoss
+    from active_recognition.training.train import TrainConfig
 
     with pytest.raises(InputError, match="must not exceed"):
         TrainConfig(limits={"min_elevation": 30, "max_elevation": 0})

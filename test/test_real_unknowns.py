@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 import trimesh
 
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import open_dataset
 from active_recognition.datasets.real_unknowns import (COLUMNS, MANIFEST, near, near_classes, ply_path,
                                                        read_manifest, real_unknowns)
-from active_recognition.validation import InputError
 
 TOOL = Path(__file__).resolve().parents[1] / "tools" / "fetch_real_unknowns.py"
 MODELNET10 = {"bathtub", "bed", "chair", "desk", "dresser", "monitor", "night_stand", "sofa", "table", "toilet",

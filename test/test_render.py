@@ -9,8 +9,8 @@ import matplotlib
 import numpy as np
 import pytest
 
-from active_recognition import visualize
 from active_recognition.cli import main
+from active_recognition.training import visualize
 
 RADIUS = 2.0
 FRONT = (math.pi / 2, -math.pi / 2)  # level, from -y: the object's front

@@ -8,14 +8,13 @@ import numpy as np
 import pytest
 import reference_reprojection as reference  # the whole-frame reprojection, before the crop
 
-from active_recognition import geometry
-from active_recognition.depth_layer import CameraConfig, DepthCamera, MISS
-from active_recognition.depth_pixels import fill_holes, spread
-from active_recognition.reach import ViewLimits
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig, TRUSTED
-from active_recognition.reprojection import auto_standoff, reproject, seen_centre, support_height
-from active_recognition.simulated_camera import (SensorConfig, SimulatedCamera, kinect_sigma,
-                                                 sensor_config)
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig, TRUSTED
+from active_recognition.sensing import geometry
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera, MISS
+from active_recognition.sensing.depth_pixels import fill_holes, spread
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.sensing.reprojection import auto_standoff, reproject, seen_centre, support_height
+from active_recognition.simulation.depth_sensor import SensorConfig, SimulatedCamera, kinect_sigma, sensor_config
 
 MODEL = CameraConfig()
 VIEW = (1.1, 0.7)
@@ -330,7 +329,7 @@ def test_fill_holes_and_spread_match_the_whole_frame_loops():
 def test_spread_by_rings_equals_the_distance_transform(monkeypatch):
     """Up to RING_STEPS steps spread grows ring by ring; the distance transform it uses beyond
     gives the same bits, on depths that are not float32 numbers too."""
-    import active_recognition.depth_pixels as dp
+    import active_recognition.sensing.depth_pixels as dp
     rng = np.random.default_rng(5)
     cases = []
     for _ in range(300):
@@ -406,7 +405,7 @@ def test_a_large_image_read_at_a_stride_is_as_near_the_truth():
 def test_the_first_view_is_back_projected_once(chair, monkeypatch):
     """Re-centring reuses the frame's points: one back-projection and one render per image, and
     the centre is the one three whole reprojections found."""
-    from active_recognition import recognizer
+    from active_recognition.runtime import active_recognizer as recognizer
     offset = np.array([0.12, -0.1, 0.06])
     sim = simulated((chair[0] + np.float32(offset), chair[1]), width=160, height=120, fov=70.0)
     core = ActiveRecognizer(planner="straight")

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from conftest import sure_or_not
 
-from active_recognition.checkpoint import shipped
-from active_recognition.commands import Step
-from active_recognition.controller import AskView, Controller, End, Timing
-from active_recognition.recognizer import ActiveRecognizer
-from active_recognition.robot_time import RobotTime
-from active_recognition.simulated_camera import SimulatedCamera
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.model.checkpoint import shipped
+from active_recognition.runtime.active_recognizer import ActiveRecognizer
+from active_recognition.runtime.controller import AskView, Controller, End, Timing
+from active_recognition.runtime.controller_commands import Step
+from active_recognition.runtime.robot_time import RobotTime
+from active_recognition.simulation.depth_sensor import SimulatedCamera
 
 
 def test_seconds_are_captures_settles_and_travel():

@@ -11,13 +11,13 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import checkpoint
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.depth_layer import CameraConfig
-from active_recognition.episode import Episode, EpisodeConfig, run
-from active_recognition.policies import make_planner
-from active_recognition.reach import ViewLimits, reach_of
+from active_recognition.model import checkpoint
+from active_recognition.model.episode import Episode, EpisodeConfig, run
+from active_recognition.model.policies import make_planner
+from active_recognition.sensing.depth_layer import CameraConfig
+from active_recognition.sensing.reach import ViewLimits, reach_of
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
@@ -145,7 +145,7 @@ def test_the_oracle_picks_the_unvisited_candidate_right_by_the_widest_margin_by_
     """The oracle's next view is the unvisited candidate after which the episode's answer (the
     shipped model's readout: its last step's, or the mean of every step's) puts the true class
     furthest above the strongest other."""
-    from active_recognition.policies import nearest_candidates
+    from active_recognition.model.policies import nearest_candidates
 
     model, _, _ = checkpoint.load_model()
     test, idx, views = episodes(3, seed=9)

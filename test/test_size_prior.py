@@ -9,16 +9,16 @@ import pytest
 import torch
 from test_datasets import CUBE_QUADS, CUBE_V, write_off
 
-from active_recognition import checkpoint, size_prior
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import open_dataset
 from active_recognition.datasets.modelnet import INCH
 from active_recognition.datasets.shapes import Shapes
-from active_recognition.depth_layer import CameraConfig
-from active_recognition.episode import Episode, EpisodeConfig
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.size_prior import MIN_SCALE, SizePrior, fit
-from active_recognition.validation import InputError
+from active_recognition.model import checkpoint, size_prior
+from active_recognition.model.episode import Episode, EpisodeConfig
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.model.size_prior import MIN_SCALE, SizePrior, fit
+from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+from active_recognition.sensing.depth_layer import CameraConfig
 
 
 def sample(seed=0):
@@ -182,7 +182,7 @@ def test_the_recognizer_tells_the_episode_its_object_size_unless_told_not_to(use
 
 def test_training_on_modelnet_writes_the_prior_of_its_training_split_less_validation(tmp_path):
     from active_recognition.datasets import open_splits
-    from active_recognition.train import TrainConfig, train
+    from active_recognition.training.train import TrainConfig, train
     for c, inches in (("large", 40.0), ("small", 10.0)):
         for split, n in (("train", 8), ("test", 1)):
             (tmp_path / c / split).mkdir(parents=True)

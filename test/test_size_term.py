@@ -11,9 +11,10 @@ import numpy as np
 import pytest
 import torch
 
-from active_recognition import checkpoint, open_set, open_set_fit
-from active_recognition.size_prior import SizePrior
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.model import checkpoint
+from active_recognition.model.size_prior import SizePrior
+from active_recognition.unknown import fit as open_set_fit, scores as open_set
 
 PRIOR = SizePrior(log_median=[math.log(0.5), math.log(2.0)], log_scale=[0.2, 0.4], log_lo=-3.0, log_hi=3.0)
 
@@ -76,10 +77,10 @@ def test_the_recognizer_lowers_its_threshold_by_the_size_term_where_it_uses_the_
     """The same 10-view episode (no stop, no hold) of an object told to be 0.1 m, where every class
     is about 1 m: its mean energy sits just below the threshold, so it ends recognized with the size
     unused or a weight of 0, and unknown once the size term lifts it past the threshold."""
-    from active_recognition.episode import EpisodeConfig
-    from active_recognition.reach import ViewLimits
-    from active_recognition.recognizer import ActiveRecognizer, SensingConfig
-    from active_recognition.simulated_camera import SensorConfig, SimulatedCamera
+    from active_recognition.model.episode import EpisodeConfig
+    from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
+    from active_recognition.sensing.reach import ViewLimits
+    from active_recognition.simulation.depth_sensor import SensorConfig, SimulatedCamera
 
     sim = SimulatedCamera(SensorConfig(object_size=0.1))
     sim.load(dataset="procedural", split="test", index=0)
@@ -117,7 +118,7 @@ def test_the_recognizer_lowers_its_threshold_by_the_size_term_where_it_uses_the_
     (1.0, {"threshold_no_size": [-2.0, float("nan")]}, "threshold_no_size"),
     (1.0, {"threshold_no_size": []}, "threshold_no_size")])
 def test_a_checkpoint_with_a_bad_size_term_is_refused_by_name(tmp_path, weight, extra, message):
-    from active_recognition.checkpoint import CheckpointError
+    from active_recognition.model.checkpoint import CheckpointError
 
     with pytest.raises(CheckpointError, match=message):
         checkpoint.load_model(sized_checkpoint(tmp_path, -3.0, weight, **extra))

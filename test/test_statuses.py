@@ -8,12 +8,12 @@ TF and its frames, not the camera."""
 import numpy as np
 import pytest
 
-from active_recognition.checkpoint import shipped
-from active_recognition.commands import Step
-from active_recognition.controller import Controller, End, Timing
-from active_recognition.episode import EpisodeConfig, least_top_score
-from active_recognition.recognizer import ActiveRecognizer
-from active_recognition.simulated_camera import SimulatedCamera
+from active_recognition.model.checkpoint import shipped
+from active_recognition.model.episode import EpisodeConfig, least_top_score
+from active_recognition.runtime.active_recognizer import ActiveRecognizer
+from active_recognition.runtime.controller import Controller, End, Timing
+from active_recognition.runtime.controller_commands import Step
+from active_recognition.simulation.depth_sensor import SimulatedCamera
 
 
 @pytest.fixture(scope="module")

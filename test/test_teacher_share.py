@@ -6,14 +6,14 @@ per batch; FC_view learns the best of those, for that share of the teacher's enc
 import pytest
 import torch
 
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets.twins import make_shape
-from active_recognition.depth_layer import DepthCamera
-from active_recognition.losses import ImitationLoss
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.policies import teacher_choice
-from active_recognition.reach import ViewLimits
-from active_recognition.train import TrainConfig
-from active_recognition.validation import InputError
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.model.policies import teacher_choice
+from active_recognition.sensing.depth_layer import DepthCamera
+from active_recognition.sensing.reach import ViewLimits
+from active_recognition.training.losses import ImitationLoss
+from active_recognition.training.train import TrainConfig
 
 TOP = ViewLimits(0.0, 90.0)
 LABELS = torch.tensor([0, 1, 2])

@@ -17,7 +17,7 @@ from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 
 import msg_adapters as ma  # noqa: E402
-from active_recognition.checkpoint import shipped  # noqa: E402
+from active_recognition.model.checkpoint import shipped  # noqa: E402
 from active_recognition.nodes.demo import DemoClient, recognize, ros_session, spin_until  # noqa: E402
 from active_recognition.nodes.recognizer import Recognizer  # noqa: E402
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode  # noqa: E402
@@ -144,8 +144,8 @@ def test_next_view_in_a_planning_frame_is_the_object_frames_moved_by_the_objects
 def test_without_tf2_ros_the_node_says_how_to_get_it(monkeypatch):
     import builtins
 
+    from active_recognition.argument_checks import InputError
     from active_recognition.nodes import tf_poses
-    from active_recognition.validation import InputError
 
     real = builtins.__import__
     monkeypatch.setattr(builtins, "__import__", lambda name, *a, **k: (_ for _ in ()).throw(

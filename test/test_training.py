@@ -13,11 +13,11 @@ import time
 import pytest
 import torch
 
-from active_recognition import checkpoint
-from active_recognition.checkpoint import CheckpointError
-from active_recognition.model import ModelConfig, RecurrentAttention
-from active_recognition.train import TrainConfig, train
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.model import checkpoint
+from active_recognition.model.checkpoint import CheckpointError
+from active_recognition.model.network import ModelConfig, RecurrentAttention
+from active_recognition.training.train import TrainConfig, train
 
 TINY = dict(pretrain_epochs=1, joint_epochs=2, batch_size=6, max_shapes=30, steps=3,
             views_per_shape=2, eval_shapes=0, checkpoint_every=2, seed=3,
@@ -126,7 +126,7 @@ def test_killed_run_resumes_to_the_same_weights(tmp_path):
 
 TORCHRUN_SCRIPT = """
 import os, sys, torch, torch.distributed as dist
-from active_recognition.train import TrainConfig, train
+from active_recognition.training.train import TrainConfig, train
 for name, values in eval(sys.argv[1]).items():  # one run after the other, in one process group
     model = train(TrainConfig(**values), progress=False)
     flat = torch.cat([p.detach().flatten() for p in model.parameters()])
@@ -242,7 +242,7 @@ def test_resuming_a_run_of_other_options_or_without_state_is_refused(tiny_tree, 
 def test_cosine_schedule_runs_each_stage_from_its_rate_down_to_the_floor(tmp_path, monkeypatch):
     """The rate of every optimizer step, read where Adam steps, against the cosine written out."""
     import math
-    from active_recognition.schedule import FLOOR
+    from active_recognition.training.lr_schedule import FLOOR
     seen = []
     adam_step = torch.optim.Adam.step
 
@@ -312,8 +312,8 @@ def test_a_run_stopped_after_an_epochs_last_batch_resumes_to_its_whole_loss(tmp_
     """Saved after the last batch of pre-training's first epoch, stopped before that epoch's row:
     the resumed run logs the epoch's loss over all its batches, as the run that never stopped did.
     Before, it logged NaN (no batch left to run); from mid-epoch, the loss of the rest alone."""
-    from active_recognition import train as train_module
-    from active_recognition.run_metrics import read_metrics
+    from active_recognition.training import train as train_module
+    from active_recognition.training.run_metrics import read_metrics
     cfg = {**TINY, "pretrain_epochs": 2, "joint_epochs": 0, "checkpoint_every": 1}
     train(TrainConfig(**cfg, out=str(tmp_path / "straight")), progress=False)
     real = train_module.Trainer.log_epoch
@@ -358,8 +358,8 @@ def test_batches_made_ahead_train_the_same_weights_bit_for_bit(tmp_path, ahead):
 
 def test_a_render_worker_that_cannot_start_says_why(tmp_path):
     """render_worker.RenderWorker: the worker's own error reaches the trainer, in its words."""
-    from active_recognition.render_worker import RenderWorker
-    from active_recognition.train import Trainer, joint_loss
+    from active_recognition.training.render_worker import RenderWorker
+    from active_recognition.training.train import Trainer, joint_loss
     cfg = TrainConfig(**TINY, dataset="modelnet", root=str(tmp_path / "nowhere"), out=str(tmp_path / "o"))
     with pytest.raises(RuntimeError, match="render worker failed:(.|\n)*nowhere"):
         RenderWorker(cfg, Trainer, joint_loss)
@@ -369,7 +369,7 @@ def test_validation_every_few_epochs_leaves_blanks_and_trains_the_same_weights(t
     """eval_every N scores the validation shapes at every Nth epoch of a stage and at its last;
     the weights are those of the run scored every epoch, bit for bit (evaluation draws nothing
     from the run's random streams and leaves batch norm's statistics alone)."""
-    from active_recognition.run_metrics import read_metrics
+    from active_recognition.training.run_metrics import read_metrics
 
     cfg = {**TINY, "policy": "imitation", "pretrain_epochs": 3, "joint_epochs": 1, "eval_shapes": 4,
            "model": {**TINY["model"], "candidates": 8, "view_input": True, "encoder": "wide"}}

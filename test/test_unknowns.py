@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 import trimesh
 
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import near, open_splits
 from active_recognition.datasets.parts import Style
 from active_recognition.datasets.unknowns import (FACTORS, GENERATORS, KINDS, SPLITS, make_unknown, styles,
                                                   unknowns)
-from active_recognition.validation import InputError
 
 unknowns_module = importlib.import_module("active_recognition.datasets.unknowns")  # the package names a function so
 

@@ -91,9 +91,9 @@ def test_an_unknown_end_leads_with_unlabeled_and_keeps_the_best_guess():
 def test_an_unknown_status_ends_unlabeled_with_the_best_known_class():
     """The recognizer's end for status unknown (sensing.unknown_energy): the JSON result keeps the
     best class and its probability, the Classification leads with UNLABELED."""
-    from active_recognition.commands import End
     from active_recognition.nodes.recognizer_outputs import Outputs
-    from active_recognition.recognizer import Observation
+    from active_recognition.runtime.active_recognizer import Observation
+    from active_recognition.runtime.controller_commands import End
 
     sent = {}
 

@@ -29,9 +29,9 @@ from pathlib import Path
 
 import trimesh
 
+from active_recognition.argument_checks import InputError
+from active_recognition.atomic_files import atomic_path
 from active_recognition.datasets.real_unknowns import MANIFEST, ply_path, read_manifest
-from active_recognition.files import atomic_path
-from active_recognition.validation import InputError
 
 RAW = "https://raw.githubusercontent.com/{repo}/{commit}/{path}"
 TIMEOUT = 60  # seconds per download

@@ -11,15 +11,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from .base import ShapeDataset, default_cache_dir
-from .folder import folder
-from .modelnet import modelnet
-from .procedural import procedural
-from .real_unknowns import real_unknowns
-from .shapenet import shapenet
-from .twins import twins
-from .unknowns import unknowns
-from ..validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.datasets.base import ShapeDataset, default_cache_dir
+from active_recognition.datasets.folder import folder
+from active_recognition.datasets.modelnet import modelnet
+from active_recognition.datasets.procedural import procedural
+from active_recognition.datasets.real_unknowns import real_unknowns
+from active_recognition.datasets.shapenet import shapenet
+from active_recognition.datasets.twins import twins
+from active_recognition.datasets.unknowns import unknowns
 
 NAMES = ("procedural", "twins", "modelnet", "shapenet", "folder")
 GENERATED = {"procedural": procedural, "twins": twins}

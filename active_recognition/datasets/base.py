@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write
-from ..meshes import MeshError, load_mesh
-from ..validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.atomic_files import atomic_write
+from active_recognition.sensing.meshes import MeshError, load_mesh
 
 SPLITS = ("train", "test")
 MESH_CACHE_VERSION = 2  # bump when load_mesh gives other arrays for the same file (2: the edge)

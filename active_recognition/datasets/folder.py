@@ -4,9 +4,9 @@
 """A plain folder: root/<class>/*.<ext> for any mesh format, deterministic split."""
 from __future__ import annotations
 
-from .base import ShapeDataset, check_root, check_split, in_split
-from ..meshes import SUFFIXES
-from ..validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.datasets.base import ShapeDataset, check_root, check_split, in_split
+from active_recognition.sensing.meshes import SUFFIXES
 
 
 def folder(root, split="train", cache_dir=None, test_fraction=0.2):

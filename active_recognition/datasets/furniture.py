@@ -19,8 +19,10 @@ from shapely import affinity
 from shapely.geometry import Point, Polygon
 from shapely.geometry import box as outline
 
-from .parts import (Style, box, cushion, cylinder, disc, extrude, leg, legs4, pedestal, plate,
-                    shell, slab, star_base, turned)
+from active_recognition.datasets.parts import (
+    Style, box, cushion, cylinder, disc, extrude, leg, legs4, pedestal, plate, shell, slab, star_base,
+    turned,
+)
 
 
 def drawers(x, y, z0, w, h, cols, rows, rng, st):

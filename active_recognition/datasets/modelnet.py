@@ -4,8 +4,8 @@
 """ModelNet10 / ModelNet40: root/<class>/{train,test}/*.off, the official split."""
 from __future__ import annotations
 
-from .base import SPLITS, ShapeDataset, check_root, check_split
-from ..validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.datasets.base import SPLITS, ShapeDataset, check_root, check_split
 
 INCH = 0.0254  # metres
 

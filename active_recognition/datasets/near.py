@@ -16,9 +16,9 @@ import numpy as np
 import trimesh
 from shapely.geometry import Polygon
 
-from .parts import Style, box, cushion, cylinder, disc, legs4, slab
-from .procedural import generated
-from ..meshes import box_edge, normalise
+from active_recognition.datasets.parts import Style, box, cushion, cylinder, disc, legs4, slab
+from active_recognition.datasets.procedural import generated
+from active_recognition.sensing.meshes import box_edge, normalise
 
 
 def stool(rng, seat, support, st):  # seat: round, square, saddle | support: 3 legs, 4 legs and rungs, pedestal

@@ -15,9 +15,9 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from .furniture import CLASSES, GENERATORS, styles
-from .parts import Style
-from ..meshes import normalise
+from active_recognition.datasets.furniture import CLASSES, GENERATORS, styles
+from active_recognition.datasets.parts import Style
+from active_recognition.sensing.meshes import normalise
 
 
 def make_shape(label: int, seed: int, held_out=False, style=None):
@@ -52,8 +52,8 @@ def generated(name, classes, make, version, split="train", cache_dir=None, seed=
     of a split are cached in one .npz under cache_dir/name. `sizes`: {split: objects per class}
     (default PER_CLASS), which also names the splits there are. `metres`: make also gives each
     shape's longest box edge in metres, as built, which the dataset then knows as its size."""
-    from ..validation import InputError
-    from .base import load_npz, save_npz_atomic, ShapeDataset
+    from active_recognition.argument_checks import InputError
+    from active_recognition.datasets.base import load_npz, save_npz_atomic, ShapeDataset
 
     sizes = PER_CLASS if sizes is None else sizes
     if split not in sizes:

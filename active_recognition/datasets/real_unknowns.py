@@ -19,8 +19,8 @@ from __future__ import annotations
 from functools import lru_cache
 from pathlib import Path
 
-from .base import ShapeDataset
-from ..validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.datasets.base import ShapeDataset
 
 MANIFEST = Path(__file__).with_name("real_unknowns.tsv")
 COLUMNS = ("split", "repo", "commit", "path", "blob", "bytes", "class", "object", "unit", "near")

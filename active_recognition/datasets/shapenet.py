@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import json
 
-from .base import ShapeDataset, check_root, check_split, in_split
-from ..validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.datasets.base import ShapeDataset, check_root, check_split, in_split
 
 
 def synset_names(root):

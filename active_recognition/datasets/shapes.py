@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..augment import Augment
-from ..depth_layer import CameraConfig, DepthCamera
-from ..meshes import box_edge, yaw_matrix, yawed
+from active_recognition.datasets.augment import Augment
+from active_recognition.sensing.depth_layer import CameraConfig, DepthCamera
+from active_recognition.sensing.meshes import box_edge, yaw_matrix, yawed
 
 
 class Shapes:

@@ -19,9 +19,9 @@ from __future__ import annotations
 import numpy as np
 import trimesh
 
-from .parts import Style, box, cushion, cylinder, legs4
-from .parts import slab as panel
-from ..meshes import normalise
+from active_recognition.datasets.parts import Style, box, cushion, cylinder, legs4
+from active_recognition.datasets.parts import slab as panel
+from active_recognition.sensing.meshes import normalise
 
 # (base, axis, sign): the face whose niche tells the pair apart
 PAIRS = (("nightstand", 1, -1),   # front
@@ -176,7 +176,7 @@ def pair_sheet(seed=0):
     """Contact-sheet rows, one per pair built from one seed: both twins seen into their niche
     (tells them apart), then both from the opposite side (does not).
     Returns (images (6, 4, 64, 64), row labels, column titles)."""
-    from ..depth_layer import DepthCamera
+    from active_recognition.sensing.depth_layer import DepthCamera
     rows, labels = [], []
     for pair, (base, axis, sign) in enumerate(PAIRS):
         views = np.array([face_view(axis, sign), face_view(axis, -sign)])
@@ -206,7 +206,7 @@ VERSION = 6  # bump when a generator changes, so caches are rebuilt
 def twins(split="train", cache_dir=None, seed=0, per_class=None):
     """The twins benchmark as a ShapeDataset: 200 train / 50 test objects per class; `cross`
     holds pieces in the held-out dressing."""
-    from .procedural import generated
+    from active_recognition.datasets.procedural import generated
     held_out = split == "cross"
     return generated("twins", CLASSES, lambda label, s: make_shape(label, s, held_out), VERSION,
                      split, cache_dir, seed, per_class)

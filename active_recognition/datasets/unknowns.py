@@ -18,9 +18,9 @@ from shapely import affinity
 from shapely.geometry import Point, Polygon
 from shapely.ops import unary_union
 
-from .parts import Style, box, cushion, cylinder, disc, extrude, legs4, place, slab, turned
-from .procedural import generated
-from ..meshes import box_edge, normalise
+from active_recognition.datasets.parts import Style, box, cushion, cylinder, disc, extrude, legs4, place, slab, turned
+from active_recognition.datasets.procedural import generated
+from active_recognition.sensing.meshes import box_edge, normalise
 
 
 def revolved(z0, radii, height, st):
@@ -226,7 +226,7 @@ PER_CLASS = {"train": 100, "val": 30, "test": 50}
 def styles(name, split):
     """The (a, b) combinations of kind `name` in `split`: a seeded permutation of all of them,
     its first third `val`, its second `test`, the rest `train` (disjoint, each non-empty)."""
-    from ..validation import InputError
+    from active_recognition.argument_checks import InputError
 
     if name not in GENERATORS:
         raise InputError(f"unknown-object kind must be one of {', '.join(KINDS)}, got {name!r}")
@@ -256,7 +256,7 @@ def unknowns(split="train", cache_dir=None, seed=0, per_class=None):
     """The unknown objects of a split as a ShapeDataset (procedural.generated): its own `val`,
     of styles apart from both `train` and `test`; each object's size is its size as built, so
     the size prior weighs it as a robot's detector would."""
-    from ..validation import InputError
+    from active_recognition.argument_checks import InputError
 
     if split not in SPLITS:
         raise InputError(f"split of unknowns must be one of {', '.join(SPLITS)}, got {split!r}")

@@ -10,7 +10,7 @@ import traceback
 
 from rclpy.exceptions import InvalidParameterValueException, ParameterNotDeclaredException
 
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
 
 # parameters rclpy declares on every node itself (its TimeSource, its TypeDescriptionService) and,
 # by prefix, those it declares for a publisher or subscription made with QoSOverridingOptions
@@ -145,7 +145,7 @@ class Throttled:
 
 def usage(prog, params):
     """What `NAME --help` prints: how to set the node's parameters, and each one's default and range."""
-    from active_recognition.options import shown
+    from active_recognition.options.flags_and_parameters import shown
 
     lines = [f"usage: ros2 run active_recognition {prog} [--ros-args -p NAME:=VALUE ...]",
              "parameters (docs/options.md; config/*.yaml):"]
@@ -184,7 +184,7 @@ def run_node(node_class, args=None, name=None, params=None):
     from rclpy.exceptions import ParameterException
     from rclpy.executors import ExternalShutdownException
 
-    from active_recognition.validation import InputError
+    from active_recognition.argument_checks import InputError
 
     interrupt_once()
     try:

@@ -10,10 +10,10 @@ import math
 import numpy as np
 
 import msg_adapters as ma
-from active_recognition import geometry
-from active_recognition.meshes import yaw_matrix
+from active_recognition.argument_checks import InputError
 from active_recognition.nodes.tf_poses import imported_tf2
-from active_recognition.validation import InputError
+from active_recognition.sensing import geometry
+from active_recognition.sensing.meshes import yaw_matrix
 
 
 def object_in_world(config):

@@ -16,13 +16,13 @@ from rclpy.parameter import Parameter
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
-from active_recognition.checkpoint import load_model, model_path
+from active_recognition.argument_checks import InputError
 from active_recognition.datasets import default_cache_dir, open_dataset
+from active_recognition.model.checkpoint import load_model, model_path
 from active_recognition.nodes.recognizer import Recognizer
 from active_recognition.nodes.recorder import check_path
 from active_recognition.nodes.simulated_camera import SimulatedCameraNode
-from active_recognition.simulated_camera import sensor_config
-from active_recognition.validation import InputError
+from active_recognition.simulation.depth_sensor import sensor_config
 
 
 class MultiThreadedExecutor(executors.MultiThreadedExecutor):

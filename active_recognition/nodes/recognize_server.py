@@ -17,9 +17,9 @@ from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.task import Future
 
 import msg_adapters as ma
-from active_recognition.controller import check_goal
+from active_recognition.argument_checks import InputError
 from active_recognition.nodes import guarded
-from active_recognition.validation import InputError
+from active_recognition.runtime.controller import check_goal
 
 try:
     from active_recognition_interfaces.action import Recognize

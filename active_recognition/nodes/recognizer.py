@@ -18,19 +18,19 @@ from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from std_srvs.srv import Trigger
 
 import msg_adapters as ma
-from active_recognition.checkpoint import model_path
-from active_recognition.commands import Refuse
-from active_recognition.controller import Controller
-from active_recognition.node_params import RecognizerParameters, changed
+from active_recognition.argument_checks import InputError, group
+from active_recognition.model.checkpoint import model_path
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, run_node
 from active_recognition.nodes.inputs import CameraInputs
 from active_recognition.nodes.recognize_server import RecognizeServer
 from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics
 from active_recognition.nodes.recorder import Recorder, recorded_topics
 from active_recognition.nodes.tf_poses import TfPoses
-from active_recognition.options import parameters
-from active_recognition.recognizer import ActiveRecognizer
-from active_recognition.validation import InputError, group
+from active_recognition.options.flags_and_parameters import parameters
+from active_recognition.options.recognizer_params import RecognizerParameters, changed
+from active_recognition.runtime.active_recognizer import ActiveRecognizer
+from active_recognition.runtime.controller import Controller
+from active_recognition.runtime.controller_commands import Refuse
 
 PARAMS = parameters(RecognizerParameters)  # name: options.Param (default, check, description)
 CHECKS = {name: param.check for name, param in PARAMS.items()}

@@ -15,9 +15,9 @@ from std_msgs.msg import Float32MultiArray, Header, String
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.commands import AskView, End, Step
-from active_recognition.health import Health
 from active_recognition.nodes.recorder import vision_topics
+from active_recognition.runtime.controller_commands import AskView, End, Step
+from active_recognition.runtime.health import Health
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
 INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_wait", "planning_frame")  # refusals

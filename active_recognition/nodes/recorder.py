@@ -24,9 +24,9 @@ from std_msgs.msg import Float32MultiArray, String
 from visualization_msgs.msg import MarkerArray
 
 import msg_adapters as ma
-from active_recognition.files import atomic_write
+from active_recognition.argument_checks import InputError
+from active_recognition.atomic_files import atomic_write
 from active_recognition.nodes import guarded
-from active_recognition.validation import InputError
 from msg_adapters.definitions import message_definition
 
 RELIABLE = QoSProfile(depth=100)

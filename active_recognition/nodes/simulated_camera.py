@@ -19,13 +19,13 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from sensor_msgs.msg import CameraInfo, Image
 
 import msg_adapters as ma
-from active_recognition.node_params import ObjectSource, SimulatedCameraParameters
+from active_recognition.argument_checks import InputError, group
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
 from active_recognition.nodes.camera_tf import CameraTf
-from active_recognition.options import parameters
-from active_recognition.simulated_camera import SimulatedCamera
-from active_recognition.validation import InputError, group
+from active_recognition.options.flags_and_parameters import parameters
+from active_recognition.options.recognizer_params import ObjectSource, SimulatedCameraParameters
+from active_recognition.simulation.depth_sensor import SimulatedCamera
 
 PARAMS = parameters(SimulatedCameraParameters)  # name: options.Param (default, check, description)
 CHECKS = {name: param.check for name, param in PARAMS.items()}

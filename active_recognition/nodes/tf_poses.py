@@ -13,8 +13,8 @@ from geometry_msgs.msg import PoseStamped
 from rclpy.time import Time
 
 import msg_adapters as ma
-from active_recognition import geometry
-from active_recognition.validation import InputError
+from active_recognition.argument_checks import InputError
+from active_recognition.sensing import geometry
 
 HOW = ("bash tools/build_interfaces.sh builds it from ROS 2 Jazzy's geometry2 sources; on a ROS "
        "install it comes with rosdep (tf2_ros)")
