@@ -14,6 +14,7 @@ from active_recognition.evaluation.evaluate import EvalConfig
 from active_recognition.options import command_options as co
 from active_recognition.options.flags_and_parameters import Parser, add_flags
 from active_recognition.training.train_config import TrainConfig
+from active_recognition.unknown.fit import add_fit_flags
 
 
 def cmd_render(args):
@@ -104,8 +105,13 @@ def cmd_evaluate(args):
     print(json.dumps(s["acc"]))
 
 
+def cmd_open_set_fit(args):
+    from active_recognition.unknown.fit import run
+    run(args)
+
+
 def add_commands(sub):
-    """Each subcommand's parser: its flags generated from its options' dataclass (options.py)."""
+    """Each subcommand's parser: its flags generated from its options' dataclass (options/flags_and_parameters.py)."""
     add_flags(sub.add_parser("render", help="render depth images of a mesh file to a PNG"),
               co.RenderOptions).set_defaults(func=cmd_render)
     add_flags(sub.add_parser("dataset", help="index a dataset: class counts, skipped files, contact sheet"),
@@ -124,6 +130,9 @@ def add_commands(sub):
     add_flags(sub.add_parser("recognize", help=(
         "send one goal to a running recognizer: feedback per image, the result; Ctrl-C cancels")),
         co.RecognizeOptions).set_defaults(func=cmd_recognize)
+    add_fit_flags(sub.add_parser("open-set-fit", help=(
+        "fit a model's unknown answer (class means, a threshold per view) on validation and store it "
+        "in its checkpoint"))).set_defaults(func=cmd_open_set_fit)
 
 
 def build_parser():

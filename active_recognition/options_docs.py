@@ -16,7 +16,8 @@ import textwrap
 from pathlib import Path
 
 from active_recognition.options.flags_and_parameters import parameters, shown
-from active_recognition.options.recognizer_params import RecognizerParameters, SimulatedCameraParameters
+from active_recognition.options.camera_params import SimulatedCameraParameters
+from active_recognition.options.recognizer_params import RecognizerParameters
 
 ROOT = Path(__file__).resolve().parents[1]
 WIDTH = 100
@@ -77,7 +78,7 @@ def options_md():
     from active_recognition.cli import build_parser
 
     out = ["# Options", "", "Generated from the option definitions (the dataclass fields made with "
-           "`validation.option`): edit a field, then run `python -m active_recognition.options_docs "
+           "`argument_checks.option`): edit a field, then run `python -m active_recognition.options_docs "
            "--write`. A `train` flag left out takes the `--config` preset's value, else the "
            "default shown; a preset's keys are the flags' names with underscores (the model's "
            "under `model:`).", ""]

@@ -13,7 +13,8 @@ from active_recognition.argument_checks import Check, InputError, arg, check_map
 from active_recognition.evaluation.evaluate import EvalConfig
 from active_recognition.model.episode import EpisodeConfig
 from active_recognition.model.network import ModelConfig
-from active_recognition.options.recognizer_params import CameraNodeConfig, NodeConfig, ObjectSource
+from active_recognition.options.camera_params import CameraNodeConfig, ObjectSource
+from active_recognition.options.recognizer_params import NodeConfig
 from active_recognition.runtime.active_recognizer import SensingConfig
 from active_recognition.sensing.reach import ViewLimits
 from active_recognition.simulation.depth_sensor import SensorConfig

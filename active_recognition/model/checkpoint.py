@@ -5,7 +5,7 @@
 
 {'format', 'model', 'model_args', 'classes', 'optimizer', 'state', 'config', 'elapsed'}, and
 'size_prior' where the training set knew its objects' sizes (size_prior.py), 'open_set' where
-its unknown answer was fitted (open_set_fit.py); 'members' (and 'judges', 'member_files') where it
+its unknown answer was fitted (unknown/fit.py); 'members' (and 'judges', 'member_files') where it
 is an ensemble of that many networks (ensemble.py)
 """
 from __future__ import annotations
@@ -22,6 +22,7 @@ from active_recognition.atomic_files import atomic_write
 from active_recognition.model.ensemble import Ensemble, EnsembleConfig
 from active_recognition.model.network import ModelConfig, RecurrentAttention
 from active_recognition.model.size_prior import SizePrior
+from active_recognition.unknown.thresholds import checked_open_set
 
 FORMAT = "active_recognition/1"
 MODELS = Path(__file__).parents[1] / "checkpoints"  # the shipped models
@@ -137,59 +138,12 @@ def build_model(ckpt, path="<checkpoint>"):
             model.size_prior = SizePrior.from_dict(ckpt["size_prior"], config.num_classes)
         except InputError as e:
             raise CheckpointError(path, str(e)) from None
-    if "open_set" in ckpt:  # the prototypes and threshold of its `unknown` answer (open_set_fit.py)
+    if "open_set" in ckpt:  # the prototypes and threshold of its `unknown` answer (unknown/fit.py)
         try:
             model.open_set = checked_open_set(ckpt["open_set"], config.num_classes, config.state_size)
         except InputError as e:
             raise CheckpointError(path, str(e)) from None
     return model
-
-
-OPEN_SET_SCORE = "prototype_mean"  # the default score of a checkpoint's "open_set" (open_set_fit.py)
-OPEN_SET_SCORES = ("prototype_mean", "energy_mean")  # the scores an open_set may carry thresholds for
-
-
-def checked_open_set(entry, num_classes, state_size):
-    """A checkpoint's `open_set` entry checked: {"score": one of OPEN_SET_SCORES, "means": float
-    tensor (T, C, S), "threshold": a number or one per step (a list or 1-D tensor; past its end,
-    the last): in (0, 2] for prototype_mean (1 - a cosine), finite for energy_mean, "fitted_on":
-    dict, optionally "size_weight": a number >= 0 (open_set.size_term) and "threshold_no_size" (as
-    threshold: those in force where the size is not used)}; InputError naming what is wrong. The
-    thresholds come back as lists of floats, one per step (a single number: a list of one)."""
-    if not isinstance(entry, dict) or not {"score", "means", "threshold"} <= set(entry):
-        raise InputError("open_set must be a dict with score, means and threshold "
-                         f"(got {sorted(entry) if isinstance(entry, dict) else type(entry).__name__})")
-    if entry["score"] not in OPEN_SET_SCORES:
-        raise InputError(f"open_set score must be one of {', '.join(OPEN_SET_SCORES)}, got {entry['score']!r}")
-    means = entry["means"]
-    if not torch.is_tensor(means) or not means.is_floating_point() or means.ndim != 3 or not len(means):
-        raise InputError(f"open_set means must be a float tensor (steps, classes, state size), got "
-                         f"{tuple(means.shape) if torch.is_tensor(means) else type(means).__name__}")
-    if tuple(means.shape[1:]) != (num_classes, state_size):
-        raise InputError(f"open_set means {tuple(means.shape)} do not fit the model: (steps, {num_classes} "
-                         f"classes, state size {state_size}) expected")
-    if not torch.isfinite(means).all():
-        raise InputError("open_set means hold NaN or infinite values")
-    if entry["score"] == "energy_mean":
-        valid, what = math.isfinite, "of energy_mean must be a finite number"
-    else:
-        valid, what = (lambda t: 0 < t <= 2), "must be a number in (0, 2] (1 - a cosine)"
-    lists = {}
-    for key in ("threshold", "threshold_no_size"):
-        if key not in entry:
-            continue
-        threshold = entry[key]
-        steps = threshold.tolist() if torch.is_tensor(threshold) and threshold.ndim == 1 else (
-            list(threshold) if isinstance(threshold, (list, tuple)) else [threshold])
-        if not steps or any(type(t) not in (int, float) or not valid(t) for t in steps):
-            raise InputError(f"open_set {key} {what} or one per step, got {threshold!r}")
-        lists[key] = [float(t) for t in steps]
-    if not isinstance(entry.get("fitted_on", {}), dict):
-        raise InputError("open_set fitted_on must be a dict")
-    weight = entry.get("size_weight", 0.0)
-    if type(weight) not in (int, float) or not (math.isfinite(weight) and weight >= 0):
-        raise InputError(f"open_set size_weight must be a number >= 0 (0: no size term), got {weight!r}")
-    return {**entry, "means": means.float(), **lists}
 
 
 def nonfinite(state_dict):

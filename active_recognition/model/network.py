@@ -124,7 +124,7 @@ class RecurrentAttention(nn.Module):
         super().__init__()
         self.config = config
         self.size_prior = None  # size_prior.SizePrior a checkpoint may carry: episodes answer with it
-        self.open_set = None  # a checkpoint's open_set entry (checkpoint.checked_open_set): the recognizer's unknown
+        self.open_set = None  # a checkpoint's open_set entry (unknown/thresholds.checked_open_set): the recognizer's unknown
         build = {"compact": compact_encoder, "wide": wide_encoder, "alexnet": alexnet_encoder}[config.encoder]
         self.encoder = build(config.feature_size)
         inputs = config.feature_size + (3 if config.view_input else 0)

@@ -1,7 +1,7 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""The simulated camera's frames (node_params.CameraFrames): requests in the object frame or in a
+"""The simulated camera's frames (options/camera_params.CameraFrames): requests in the object frame or in a
 world frame the object stands in, and the camera's optical frame broadcast on TF with each image,
 as a robot's robot_state_publisher and camera driver would (tf2_ros' broadcasters; imported only
 where TF is asked for)."""

@@ -38,7 +38,7 @@ def offered_reliable(node, topic):
 
 
 class SensorSubscription:
-    """A keep-last-1 subscription with the reliability of `mode` (one of node_params.QOS_MODES)."""
+    """A keep-last-1 subscription with the reliability of `mode` (one of options.recognizer_params.QOS_MODES)."""
 
     def __init__(self, node, msg_type, topic, callback, mode="auto"):
         self.node, self.msg_type, self.callback, self.mode = node, msg_type, callback, mode

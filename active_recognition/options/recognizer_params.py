@@ -1,31 +1,30 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""The ROS parameters of the two nodes, each defined once, without rclpy.
+"""The recognizer node's ROS parameters, each defined once, without rclpy.
 
-A node's parameters are the options of one dataclass (`RecognizerParameters`,
-`SimulatedCameraParameters`), nested ones flat beside the others: the core's own configs
-(EpisodeConfig, SensingConfig, ViewLimits, SensorConfig) and the node-only settings here.
-nodes/__init__.declare_parameters declares each with a descriptor (description, range,
-read-only) made from its field (options.parameters); config/*.yaml is generated from them.
+`RecognizerParameters` holds the options of the core's own configs (EpisodeConfig, SensingConfig,
+ViewLimits, Timing, RobotTime) and the node-only settings here, nested ones flat beside the
+others. nodes/__init__.declare_parameters declares each with a descriptor (description, range,
+read-only) made from its field (options.flags_and_parameters); config/recognizer.yaml is
+generated from them. Imports the runtime and below only: declaring the recognizer's parameters
+loads no dataset and no simulated camera (test/test_layers.py). The simulated camera's are in
+camera_params.py.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
 from active_recognition.argument_checks import SEED_MAX, nested, option, validate
-from active_recognition.datasets import NAMES, SPLITS
 from active_recognition.model.episode import EpisodeConfig, ROBOT
 from active_recognition.runtime.active_recognizer import NODE_PLANNERS, SensingConfig
 from active_recognition.runtime.controller import Timing
 from active_recognition.runtime.robot_time import RobotTime
 from active_recognition.sensing.reach import ViewLimits
-from active_recognition.simulation.depth_sensor import SensorConfig
 
 QOS_MODES = ("auto", "reliable", "sensor_data")
 GOAL_POLICIES = ("reject", "preempt")
 POSE_SOURCES = ("topic", "tf")
-CAMERA_QOS = ("sensor_data", "reliable")
 
 
 @dataclass
@@ -80,76 +79,6 @@ class RecognizerParameters:
     sensing: SensingConfig = nested(SensingConfig, flat=True, runtime=True)
     # a robot sees an object on a floor or a table from above its centre
     limits: ViewLimits = nested(ViewLimits, ViewLimits(0.0, 90.0), flat=True)
-
-    def __post_init__(self):
-        validate(self)
-
-
-@dataclass
-class ObjectSource:
-    """What the simulated camera shows (changed at run time to switch objects)."""
-
-    mesh: str = option("", help="a mesh file (.off .obj .ply .stl .glb); empty = an object of "
-                                "`dataset`")
-    dataset: str = option("procedural", choices=NAMES, help="dataset whose object is shown")
-    root: str = option("", help="dataset root folder (not for procedural)")
-    split: str = option("test", choices=SPLITS, help="the dataset's split (cross: a generated "
-                                                     "benchmark's held-out styles)")
-    index: int = option(0, lo=0, help="which object of the split; change at run time to switch "
-                                      "objects")
-
-    def __post_init__(self):
-        validate(self)
-
-
-@dataclass
-class CameraNodeConfig:
-    """The simulated camera node's own settings."""
-
-    frame_id: str = option("camera_depth_optical_frame", length=(1, None),
-                           help="frame_id of the images")
-    seed: int = option(0, lo=0, hi=SEED_MAX, help="seed of the noise, the dropout, the pose "
-                                                  "error and the unanswered requests")
-    image_qos: str = option("sensor_data", choices=CAMERA_QOS, help=(
-        "reliability of its three topics: sensor_data (best effort) or reliable"))
-
-    def __post_init__(self):
-        validate(self)
-
-
-@dataclass
-class CameraFrames:
-    """Where the simulated camera says it is: camera/pose, TF, or both."""
-
-    publish_pose: bool = option(True, help="publish camera/pose with each image")
-    publish_tf: bool = option(False, help=(
-        "broadcast the camera's optical frame (frame_id) on TF with each image, stamped like it, "
-        "relative to world_frame if set, else to object_frame"))
-    object_frame: str = option("object", length=(1, None), help=(
-        "the object's frame: requests in it are taken as they are"))
-    world_frame: str = option("", help=(
-        "a world frame the object stands in at object_x/y/z/yaw (a static transform on TF): "
-        "requests in it are moved into the object frame; empty = none"))
-    object_x: float = option(0.0, lo=-1000, hi=1000, help="metres: the object frame's origin in world_frame")
-    object_y: float = option(0.0, lo=-1000, hi=1000, help="metres")
-    object_z: float = option(0.0, lo=-1000, hi=1000, help="metres")
-    object_yaw: float = option(0.0, lo=-360, hi=360, help="degrees: the object frame turned about world z")
-    tf_delay: float = option(0.0, lo=0, hi=10, help=(
-        "seconds the camera's transform is broadcast after its image (a slow TF publisher)"))
-
-    def __post_init__(self):
-        validate(self)
-
-
-@dataclass
-class SimulatedCameraParameters:
-    """Every parameter of the simulated camera node; the sensor's default to the model's own
-    virtual camera (demo --camera realsense sets simulated_camera.PRESETS['realsense'])."""
-
-    source: ObjectSource = nested(ObjectSource, flat=True, runtime=True)
-    node: CameraNodeConfig = nested(CameraNodeConfig, flat=True)
-    frames: CameraFrames = nested(CameraFrames, flat=True)
-    sensor: SensorConfig = nested(SensorConfig, flat=True)
 
     def __post_init__(self):
         validate(self)

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """How the recognizer's loop (controller.py) waits: for images, for their poses, for views, for an
-episode; and its time budget. Node parameters (node_params nests them)."""
+episode; and its time budget. Node parameters (options/recognizer_params nests them)."""
 from dataclasses import dataclass
 
 from active_recognition.argument_checks import option, validate
@@ -10,7 +10,7 @@ from active_recognition.argument_checks import option, validate
 
 @dataclass
 class Timing:
-    """How the loop waits: node parameters (node_params nests them), all but one changeable at
+    """How the loop waits: node parameters (options/recognizer_params nests them), all but one changeable at
     run time."""
 
     require_fresh_images: bool = option(True, help="ignore images stamped before the last "

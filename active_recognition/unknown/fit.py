@@ -53,6 +53,7 @@ from active_recognition.options.flags_and_parameters import add_flags
 from active_recognition.sensing.depth_layer import CameraConfig
 from active_recognition.simulation.depth_sensor import PRESETS
 from active_recognition.unknown import scores as open_set
+from active_recognition.unknown.thresholds import OPEN_SET_SCORE, OPEN_SET_SCORES, checked_open_set
 
 FIT_OBJECTS = 600  # training objects whose states the means are fitted on
 KNOWN_RATE = 0.97
@@ -91,7 +92,7 @@ def running(score, states, logits, means):
     return open_set.prototype_mean(states, means)
 
 
-def scored(planner, model, shapes, objects, cfg, means, fixed_path=None, score=checkpoint.OPEN_SET_SCORE):
+def scored(planner, model, shapes, objects, cfg, means, fixed_path=None, score=OPEN_SET_SCORE):
     """(probs (N, T, C), running score (N, T)) of episodes of `objects` (prototype_mean against `means`)."""
     ro, rec = episodes(planner, model, shapes, objects, cfg, fixed_path)
     return ro.probs, running(score, rec["states"], rec["logits"], means)
@@ -106,12 +107,12 @@ def flagged(probs, running, entropy_threshold, thresholds):
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
         seed=0, val_objects=0, size=True, camera="model", unknowns="unknowns", unknowns_root=None,
-        score=checkpoint.OPEN_SET_SCORE, size_weights=SIZE_WEIGHTS):
+        score=OPEN_SET_SCORE, size_weights=SIZE_WEIGHTS):
     """The `open_set` entry of the model at `path` (see the module's docstring)."""
     if not size_weights or any(not (np.isfinite(w) and w >= 0) for w in size_weights):
         raise InputError(f"size_weights must be numbers >= 0, at least one, got {list(size_weights)}")
-    if score not in checkpoint.OPEN_SET_SCORES:
-        raise InputError(f"score must be one of {', '.join(checkpoint.OPEN_SET_SCORES)}, got {score!r}")
+    if score not in OPEN_SET_SCORES:
+        raise InputError(f"score must be one of {', '.join(OPEN_SET_SCORES)}, got {score!r}")
     model, classes, ckpt = checkpoint.load_model(path, dataset=dataset)
     if not 0 < known_rate <= 1:
         raise InputError(f"known_rate: the share of known objects to accept must lie in (0, 1], got {known_rate}")
@@ -163,7 +164,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
              "threshold": torch.from_numpy(thresholds), "fitted_on": fitted_on}
     if weight:  # with the size term; the thresholds without it for a recognizer not told the size
         entry |= {"size_weight": float(weight), "threshold_no_size": torch.from_numpy(plain)}
-    return checkpoint.checked_open_set(entry, len(classes), model.config.state_size)
+    return checked_open_set(entry, len(classes), model.config.state_size)
 
 
 def val_figures(known, unknown, entropy_threshold, thresholds):
@@ -198,7 +199,7 @@ def choose_size_weight(prior, known, unknown, sizes, entropy_threshold, known_ra
 
 
 def through_camera(path, planner, dataset, root, preset, steps, seed, size, train, val, unknown, rendered,
-                   score=checkpoint.OPEN_SET_SCORE):
+                   score=OPEN_SET_SCORE):
     """(means, known, unknown, notes, sizes) fitted on episodes through simulated camera `preset` as the
     node runs them (camera_episodes.py), each of `steps` images without a stop: the class means
     of the training episodes' states, or `rendered` (of the model's own renders) where those
@@ -236,14 +237,13 @@ def store(path, entry, out=None):
     itself), atomically, the entry checked first (nothing is written for a bad one); the result
     loads as any checkpoint (checkpoint.read checks it)."""
     model = checkpoint.load_model(path)[0]
-    checkpoint.checked_open_set(entry, model.config.num_classes, model.config.state_size)
+    checked_open_set(entry, model.config.num_classes, model.config.state_size)
     checkpoint.update(path, out, open_set=entry)
     checkpoint.load_model(out or path)  # refuse now what the recognizer would refuse
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python -m active_recognition.unknown.fit",
-                                 description=__doc__.split("\n\n")[0])
+def add_fit_flags(ap):
+    """The fit's flags on `ap` (the CLI's open-set-fit subcommand, or main's own parser)."""
     add_flags(ap, EvalConfig, ["dataset", "root", "checkpoint", "seed", "steps", "size"], dataset={
         "choices": ("procedural", "modelnet"), "default": "modelnet", "help": "the known objects' dataset"})
     ap.add_argument("--objects", type=int, default=FIT_OBJECTS,
@@ -261,7 +261,7 @@ def main(argv=None):
         "the unknown val objects scored beside the known: generated (unknowns) or real meshes "
         "(real_unknowns, under --unknowns-root: tools/fetch_real_unknowns.py)"))
     ap.add_argument("--unknowns-root", default=None, help="real_unknowns' folder")
-    ap.add_argument("--score", default=checkpoint.OPEN_SET_SCORE, choices=checkpoint.OPEN_SET_SCORES, help=(
+    ap.add_argument("--score", default=OPEN_SET_SCORE, choices=OPEN_SET_SCORES, help=(
         "the unknown score the thresholds are on: prototype_mean (the default: the state's cosine "
         "distance to the class means) or energy_mean (each view's -log sum exp of the logits, for "
         "a model trained with outliers)"))
@@ -270,18 +270,30 @@ def main(argv=None):
         "(open_set.size_term) tried on val, the one that flags the most val unknowns kept (default 0: no "
         f"size term; a grid: {' '.join(f'{w:g}' for w in SIZE_GRID)})"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
-    args = ap.parse_args(argv)
-    try:
-        path = checkpoint.model_path(args.checkpoint, args.dataset)
-        entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
-                    args.seed, args.val_objects, args.size, args.camera, args.unknowns, args.unknowns_root,
-                    args.score, args.size_weights)
-        store(path, entry, args.out)
-    except InputError as e:
-        ap.error(str(e))
+    return ap
+
+
+def run(args):
+    """Fit and store as the flags say (InputError on bad input, before any work where it can)."""
+    path = checkpoint.model_path(args.checkpoint, args.dataset)
+    entry = fit(path, args.dataset, args.root, args.objects, args.known_rate, args.planner, args.steps,
+                args.seed, args.val_objects, args.size, args.camera, args.unknowns, args.unknowns_root,
+                args.score, args.size_weights)
+    store(path, entry, args.out)
     steps = ", ".join(f"{t:.4f}" for t in entry["threshold"])
     print(f"{args.out or path}: open_set thresholds by views {steps}, size weight {entry.get('size_weight', 0.0):g}; "
           f"{entry['fitted_on']}", file=sys.stderr)
+
+
+def main(argv=None):
+    """`python -m active_recognition.unknown.fit`, as `active-recognition open-set-fit`."""
+    ap = add_fit_flags(argparse.ArgumentParser(prog="python -m active_recognition.unknown.fit",
+                                               description=__doc__.split("\n\n")[0]))
+    args = ap.parse_args(argv)
+    try:
+        run(args)
+    except InputError as e:
+        ap.error(str(e))
 
 
 def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100, fixed_path=None):
