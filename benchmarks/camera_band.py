@@ -4,14 +4,14 @@
 """Where the camera's known accuracy goes: the elevation band, then the camera itself.
 
 A camera over the floor an object stands on never looks from below (the node's default limits,
-elevation 0 to 90 degrees); the render figures of benchmarks/open_set.py come from the whole
+elevation 0 to 90 degrees); the render figures of benchmarks/open_set_auroc.py come from the whole
 sphere, the paper's setting. Three committed outputs of the same model and stored `unknown`
 answer, episodes cut after 3 / 6 / 9 views, split the gap: renders on the whole sphere
-(open_set.json), renders in the band (open_set_band.json: `open_set.py --min-elevation 0`), and
+(open_set.json), renders in the band (open_set_band.json: `open_set_auroc.py --min-elevation 0`), and
 the RealSense-like camera in the band (open_set_camera.json). Writes
 docs/results/modelnet10/camera_band.json; the last line is JSON.
 
-    python benchmarks/open_set.py --dataset modelnet --root DIR --min-elevation 0 \
+    python benchmarks/open_set_auroc.py --dataset modelnet --root DIR --min-elevation 0 \
         --out docs/results/modelnet10/open_set_band.json
     python benchmarks/camera_band.py
 """
@@ -28,11 +28,12 @@ VIEWS = ("3", "6", "9")
 
 
 def known_accuracy(record, name):
-    """{views: known accuracy} at the stored answer, cut after 3 / 6 / 9 views: an open_set.py
+    """{views: known accuracy} at the stored answer, cut after 3 / 6 / 9 views: an open_set_auroc.py
     record's `stored`, an open_set_camera.py record's `cut`."""
     part = record.get("stored") or record.get("cut")
     if not part or "known_accuracy" not in part:
-        raise InputError(f"{name}: no stored known accuracy (open_set.py's 'stored' or open_set_camera.py's 'cut')")
+        raise InputError(f"{name}: no stored known accuracy (open_set_auroc.py's 'stored' or "
+                         "open_set_camera.py's 'cut')")
     return {v: part["known_accuracy"][v] for v in VIEWS}
 
 
@@ -47,8 +48,8 @@ def split_gap(sphere, band, camera):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     folder = results_dir("modelnet")
-    ap.add_argument("--sphere", default=str(folder / "open_set.json"), help="open_set.py on the whole sphere")
-    ap.add_argument("--band", default=str(folder / "open_set_band.json"), help="open_set.py --min-elevation 0")
+    ap.add_argument("--sphere", default=str(folder / "open_set.json"), help="open_set_auroc.py on the whole sphere")
+    ap.add_argument("--band", default=str(folder / "open_set_band.json"), help="open_set_auroc.py --min-elevation 0")
     ap.add_argument("--camera", default=str(folder / "open_set_camera.json"), help="open_set_camera.py")
     ap.add_argument("--out", default=str(folder / "camera_band.json"), help="JSON ('' = none)")
     args = ap.parse_args(argv)
@@ -62,7 +63,7 @@ def main(argv=None):
         if records["band"].get("min_elevation") != 0.0:
             raise InputError(f"--band {args.band}: not run with --min-elevation 0 "
                              f"(min_elevation {records['band'].get('min_elevation')!r})")
-        if records["sphere"].get("min_elevation", -90.0) != -90.0:  # open_set.py before the key: the sphere
+        if records["sphere"].get("min_elevation", -90.0) != -90.0:  # open_set_auroc.py before the key: the sphere
             raise InputError(f"--sphere {args.sphere}: not a whole-sphere run "
                              f"(min_elevation {records['sphere']['min_elevation']!r})")
         for key in ("checkpoint", "planner"):  # the same model and planner, or the split means nothing

@@ -23,7 +23,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from common import emit, one_line_errors, output, results_dir
+from common import add_common_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.evaluation.camera_episodes import camera_runs, robot_cost
@@ -33,7 +33,7 @@ from active_recognition.model import checkpoint
 from active_recognition.options.flags_and_parameters import add_flags
 from active_recognition.options.recognizer_params import RecognizerParameters
 from active_recognition.runtime.active_recognizer import ActiveRecognizer
-from active_recognition.simulation.depth_sensor import PRESETS, sensor_config
+from active_recognition.simulation.depth_sensor import sensor_config
 
 OBJECTS_DEFAULT = 0  # 0: the whole test split
 
@@ -108,7 +108,8 @@ def run(ap, args):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["root", "checkpoint", "seed"], root={"required": True})
+    add_common_flags(ap, "root", "checkpoint", root_required=True)
+    add_flags(ap, EvalConfig, ["seed"])
     ap.add_argument("--other-checkpoint", default=None, help="another model to set beside today's")
     ap.add_argument("--planners", nargs="*", default=[], help="planners to run beside the default")
     ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
@@ -116,9 +117,7 @@ def main(argv=None):
     ap.add_argument("--sensor-parts", action="store_true", help=(
         "add a row per defect of the camera taken away alone (edge dropout, depth noise, holes, "
         "pose error, floor)"))
-    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
-    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
-                    "docs/results/modelnet10/camera_parts.json; a partial run must give it)")
+    add_common_flags(ap, "camera", "out", out="docs/results/modelnet10/camera_parts.json")
     args = ap.parse_args(argv)
     with one_line_errors(ap):
         run(ap, args)

@@ -25,7 +25,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, committed, one_line_errors, output, results_dir
+from common import RESULTS, add_common_flags, committed, one_line_errors, output, results_dir
 from results_page import write_results_page
 from tqdm import tqdm
 
@@ -121,10 +121,8 @@ def main(argv=None):
         objects={"default": OBJECTS_DEFAULT, "help": "test objects (seeded draw)"})
     ap.add_argument("--rows", nargs="*", default=None, help="rows to run (default: all)")
     ap.add_argument("--workers", type=int, default=2, help="processes (one row each at a time), >= 1")
-    add_flags(ap, EvalConfig, ["checkpoint"])
-    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
-                    "docs/results/camera_robustness.json, for modelnet "
-                    "docs/results/modelnet10/camera_robustness.json; a partial run must give it)")
+    add_common_flags(ap, "checkpoint", "out", out="docs/results/camera_robustness.json, for modelnet "
+                     "docs/results/modelnet10/camera_robustness.json")
     args = ap.parse_args(argv)
     with one_line_errors(ap):
         run(ap, args)

@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 
 """Helpers shared by the benchmarks (and by the tests that run ROS loops the same way): medians
-of repeated timings, the last-line JSON, where each dataset's results go, one line, not a
-traceback, for bad input, the recognizer's parameter for a shipped model, and stopping node
+of repeated timings, the last-line JSON, where each dataset's results go, the common flags (add_common_flags), one
+line, not a traceback, for bad input, the recognizer's parameter for a shipped model, and stopping node
 processes."""
 import json
 import subprocess
@@ -16,7 +16,10 @@ import numpy as np
 
 from active_recognition.argument_checks import InputError
 from active_recognition.datasets import OPEN_SET
+from active_recognition.evaluation.evaluate import EvalConfig
 from active_recognition.model.checkpoint import shipped
+from active_recognition.options.flags_and_parameters import add_flags
+from active_recognition.simulation.depth_sensor import PRESETS
 
 RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
 FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results
@@ -30,6 +33,28 @@ def results_dir(dataset):
 def committed(path):
     """Whether `path` lies in docs/results, where the committed figures are."""
     return Path(path).resolve().is_relative_to(RESULTS.resolve())
+
+
+def add_common_flags(ap, *names, root_required=False, starts=None, starts_help="seeded starts per object",
+                     out=None):
+    """The flags the benchmarks share, defined once, added to `ap` in the order named: --root and
+    --checkpoint (evaluate's, EvalConfig; --root required where `root_required`), --camera (the
+    simulated camera's preset, realsense by default), --starts (default `starts`) and --out (the
+    JSON to write; `out` names its default file(s) in the help)."""
+    for name in names:
+        if name in ("root", "checkpoint"):
+            required = {"root": {"required": True}} if name == "root" and root_required else {}
+            add_flags(ap, EvalConfig, [name], **required)
+        elif name == "camera":
+            ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS),
+                            help="the simulated camera's preset")
+        elif name == "starts":
+            ap.add_argument("--starts", type=int, default=starts, help=f"{starts_help} (default {starts})")
+        elif name == "out":
+            ap.add_argument("--out", default=None, help=f"JSON to write ('' = none; default {out}; a partial "
+                            "run must give it)")
+        else:
+            raise ValueError(f"add_common_flags: no common flag {name!r}")
 
 
 def add_unknowns_flags(ap, default="unknowns"):

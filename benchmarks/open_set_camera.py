@@ -6,7 +6,7 @@ camera and the recognizer's own path (SimulatedCamera -> ActiveRecognizer.observ
 reprojects every image into the model's camera), with the node's defaults (the checkpoint's
 stored thresholds and hold, object_size read, views from 0 to 90 degrees of elevation).
 
-benchmarks/open_set.py measures the scores on the model's own renders; this one the shipped
+benchmarks/open_set_auroc.py measures the scores on the model's own renders; this one the shipped
 operating point through a camera: `virtual` (64x64, no noise) or `realsense` (640x480, noise,
 holes, 2 degrees of arm error). Known objects are ModelNet10's test split (or a seeded draw of
 it), each at its own size; unknown ones the generated unknowns' test styles at their size as
@@ -30,7 +30,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
+from common import add_common_flags, add_unknowns_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.datasets.real_unknowns import near as is_near
@@ -41,7 +41,6 @@ from active_recognition.model import checkpoint
 from active_recognition.options.flags_and_parameters import add_flags
 from active_recognition.options.recognizer_params import RecognizerParameters
 from active_recognition.runtime.active_recognizer import ActiveRecognizer
-from active_recognition.simulation.depth_sensor import PRESETS
 from active_recognition.unknown import scores as open_set
 
 OBJECTS_DEFAULT = 0  # of each group: 0 = every one (899 known, 450 generated or 83 real unknowns)
@@ -133,16 +132,16 @@ def run(ap, args):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["root", "checkpoint", "seed"], root={"required": True})
+    add_common_flags(ap, "root", "checkpoint", root_required=True)
+    add_flags(ap, EvalConfig, ["seed"])
     ap.add_argument("--objects", type=int, default=OBJECTS_DEFAULT,
                     help="known and unknown test objects each (a seeded draw; default 0: every one)")
-    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    add_common_flags(ap, "camera")
     add_unknowns_flags(ap)
     ap.add_argument("--no-size", action="store_true", help="the recognizer not told the objects' sizes "
                     "(use_size false: no size prior, no size term in the unknown score)")
-    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
-                    "docs/results/modelnet10/open_set_camera.json, open_set_camera_real.json with "
-                    "--unknowns real_unknowns; a partial run must give it)")
+    add_common_flags(ap, "out", out="docs/results/modelnet10/open_set_camera.json, open_set_camera_real.json "
+                     "with --unknowns real_unknowns")
     args = ap.parse_args(argv)
     with one_line_errors(ap):
         run(ap, args)

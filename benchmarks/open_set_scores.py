@@ -11,7 +11,7 @@ are never read.
 
 Scores (higher = more likely unknown), each per view and as its running mean (`_mean`):
 - `prototype`: 1 - the largest cosine similarity of the state to a class mean of that step's
-  training states (the node's score, open_set.py);
+  training states (the node's score, active_recognition/unknown/scores.py);
 - `knn1`, `knn3`, `knn10`: 1 - the cosine similarity to the k-th nearest training state of that
   step (a deep nearest-neighbour score, Sun et al. 2022: blind to how a class's objects spread).
 For each, after 3, 6 and 10 views: the AUROC (known against unknown) and the share of unknowns

@@ -39,18 +39,15 @@ import json
 from pathlib import Path
 
 import numpy as np
-from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
+from common import add_common_flags, add_unknowns_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition.atomic_files import atomic_write
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluation.camera_episodes import camera_runs, recording_core
-from active_recognition.evaluation.evaluate import EvalConfig
 from active_recognition.evaluation.report import write_json
 from active_recognition.model import checkpoint
-from active_recognition.options.flags_and_parameters import add_flags
 from active_recognition.runtime.active_recognizer import NODE_PLANNERS
-from active_recognition.simulation.depth_sensor import PRESETS
 from active_recognition.unknown import scores as open_set
 
 STEPS = 10
@@ -223,18 +220,17 @@ def run(ap, args):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["root", "checkpoint"], root={"required": True})
+    add_common_flags(ap, "root", "checkpoint", root_required=True)
     ap.add_argument("--planners", nargs="+", default=list(PLANNERS), help="planners beside the default")
     ap.add_argument("--reference", default=None, help="the planner the others are paired against, run "
                     "beside them (default: the checkpoint's default_planner, learned where it names none; "
                     "--reference imitation --planners imitation runs imitation alone)")
-    ap.add_argument("--starts", type=int, default=STARTS, help=f"seeded starts per val object (default {STARTS})")
+    add_common_flags(ap, "starts", starts=STARTS, starts_help="seeded starts per val object")
     ap.add_argument("--seed", type=int, default=SEED, help=f"first start's seed (default {SEED})")
     ap.add_argument("--objects", type=int, default=0, help="the first N val objects of each group (0: all)")
-    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
+    add_common_flags(ap, "camera")
     add_unknowns_flags(ap, default="real_unknowns")  # the planner is chosen beside real unknowns
-    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
-                    "docs/results/modelnet10/validation_camera.json; a partial run must give it)")
+    add_common_flags(ap, "out", out="docs/results/modelnet10/validation_camera.json")
     ap.add_argument("--scores", default=None, metavar="CSV", help="write the default planner's per-view "
                     "answers and scores of the first start, known and unknown, to this CSV")
     ap.add_argument("--ship", action="store_true", help="record the chosen planner as the shipped model's "

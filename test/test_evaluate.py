@@ -230,7 +230,7 @@ def test_results_page_names_a_template_section_without_its_value(tmp_path, monke
 
 def test_size_prior_records_of_shipped_models_go_where_the_results_page_reads_them(tmp_path):
     from active_recognition.model.checkpoint import MODELS, shipped
-    record_path = load_benchmark("size_prior").record_path
+    record_path = load_benchmark("size_prior_weight").record_path
     folder = MODELS.resolve().parents[1] / "docs" / "results" / "modelnet10"
     assert record_path(shipped("modelnet")) == folder / "size_prior.json"
     assert record_path(MODELS / "modelnet10_reinforce.pt") == folder / "size_prior_reinforce.json"

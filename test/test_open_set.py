@@ -127,7 +127,7 @@ def test_recorded_rollout_agrees_with_its_answers(readout):
 
 
 def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
-    """benchmarks/open_set.py end to end on the procedural benchmark, a few objects of each split."""
+    """benchmarks/open_set_auroc.py end to end on the procedural benchmark, a few objects of each split."""
     import json
 
     from conftest import load_benchmark
@@ -135,7 +135,7 @@ def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
     from active_recognition.datasets.unknowns import KINDS
 
     out = tmp_path / "open_set.json"
-    load_benchmark("open_set").main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
+    load_benchmark("open_set_auroc").main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
                                      "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert set(last) == {"auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy", "chosen"}
@@ -154,7 +154,7 @@ def test_the_benchmark_keeps_its_episodes_in_the_elevation_band_asked(tmp_path, 
     below the band, as a camera over a floor; the whole sphere by default."""
     from conftest import load_benchmark
 
-    bench = load_benchmark("open_set")
+    bench = load_benchmark("open_set_auroc")
     seen = []
 
     def stop(planner, model, shapes, objects, cfg, fixed_path):
@@ -456,7 +456,7 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys, score,
     open_set_fit.store(checkpoint.shipped("procedural"), {"score": score, "means": means,
                                                           "threshold": top, "fitted_on": {}}, tmp_path / "s.pt")
     out = tmp_path / "open_set.json"
-    load_benchmark("open_set").main(["--dataset", "procedural", "--checkpoint", str(tmp_path / "s.pt"),
+    load_benchmark("open_set_auroc").main(["--dataset", "procedural", "--checkpoint", str(tmp_path / "s.pt"),
                                      "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     stored, record = last["stored"], json.loads(out.read_text())

@@ -10,7 +10,7 @@ training split (median and scaled median absolute deviation of the log sizes: a 
 in other units do not widen it), mixed with a uniform chance `outlier` over the sizes seen (an
 odd unit, a bad box), so a size unlike its class's lowers that class but never rules it out.
 The episode answers p(class | images) x p(size | class)^weight, renormalised; `weight` and
-`outlier` are chosen on the validation split (benchmarks/size_prior.py).
+`outlier` are chosen on the validation split (benchmarks/size_prior_weight.py).
 """
 from __future__ import annotations
 

@@ -75,12 +75,12 @@ class SensingConfig:
     use_size: bool = option(True, help=(
         "weigh what object_size says of the class, where the checkpoint carries a size prior "
         "(modelnet10.pt); false when object_size is a guess"))
-    # open_set.py: the score energy_mean; benchmarks/open_set.py measures it and its operating point
+    # unknown/scores.py: the score energy_mean; benchmarks/open_set_auroc.py measures it and its operating point
     unknown_energy: float = option(0.0, lo=-1000, hi=0, help=(
         "an episode whose mean energy over its views (-log sum exp of the logits) ends above this "
         "ends with status unknown, its best class and probability kept; 0 = never (the operating "
         "point accepting 95 % of ModelNet10's validation objects: docs/results/modelnet10/open_set.json)"))
-    # open_set.py: the score prototype_mean against the class means a checkpoint carries (open_set_fit.py)
+    # unknown/scores.py: the score prototype_mean against the class means a checkpoint carries (unknown/fit.py)
     unknown_threshold: float = option(-1.0, lo=-1, hi=2, help=(
         "an episode whose mean prototype score over its views (1 - the cosine of each view's "
         "recurrent state to the nearest class mean) ends above this ends with status unknown, "

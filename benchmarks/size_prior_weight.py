@@ -11,7 +11,7 @@ docs/results/modelnet10/size_prior.json; with --write, stores the chosen prior i
 (atomically; train does the same at the end of every run, with size_prior.SizePrior's defaults).
 Last line is JSON.
 
-    python benchmarks/size_prior.py --root ~/data/ModelNet10 [--write]
+    python benchmarks/size_prior_weight.py --root ~/data/ModelNet10 [--write]
 """
 import argparse
 import itertools

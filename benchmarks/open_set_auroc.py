@@ -25,7 +25,7 @@ recognizer answers (its hold: a confident answer that looks unknown waits), in e
 planner (default random: what choosing the views adds; key `compared`). Writes
 docs/results/modelnet10/open_set.json (a partial run must give --out); the last line is JSON.
 
-    python benchmarks/open_set.py --dataset modelnet --root ~/data/ModelNet10 [--objects 50 --out F]
+    python benchmarks/open_set_auroc.py --dataset modelnet --root ~/data/ModelNet10 [--objects 50 --out F]
 """
 import argparse
 from pathlib import Path
