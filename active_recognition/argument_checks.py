@@ -6,7 +6,7 @@
 
 A dataclass field made with `option(default, ...)` carries a `Check` (type, range, choices,
 length, nested options) and its help in its metadata: it is the one definition of that option,
-from which options.py makes the flags and node parameters. `nested(cls)` holds a dataclass of
+from which options/flags_and_parameters.py makes the flags and node parameters. `nested(cls)` holds a dataclass of
 options (flat: its keys beside the outer ones). `validate(obj)` applies every field's check (call
 it in __post_init__), `check_mapping(cls, values)` names unknown keys, nested ones too, `group`
 and `as_dict` map flat names to nested fields and back, `arg(check)` turns a check into an
@@ -137,7 +137,7 @@ class Check:
 def option(default, kind=None, *, help="", flag=None, metavar=None, runtime=False,  # noqa: A002
            required=False, exclusive=None, **check):
     """A dataclass field with its Check (the kind defaults to the default value's type) and what the
-    generated interfaces say of it (options.py): `help`; `flag` the command-line spelling (False:
+    generated interfaces say of it (options/flags_and_parameters.py): `help`; `flag` the command-line spelling (False:
     none), `metavar`, `required`, `exclusive` (flags of one name exclude each other); `runtime`: a
     node may change it while running (else its parameter is read-only)."""
     meta = {"check": Check(kind or type(default), **check), "help": help, "flag": flag,
@@ -247,7 +247,7 @@ def arg(check):
             words = dataclasses.replace(check, optional=False).allowed()  # no null on a command line
             raise argparse.ArgumentTypeError(f"must be {words}, got {text!r}") from None
     parse.__name__ = check.kind.__name__  # argparse names the type in some messages
-    parse.check = check  # for the generated reference (options.py)
+    parse.check = check  # for the generated reference (options/flags_and_parameters.py)
     return parse
 
 

@@ -15,8 +15,8 @@ import sys
 import textwrap
 from pathlib import Path
 
-from active_recognition.options.flags_and_parameters import parameters, shown
 from active_recognition.options.camera_params import SimulatedCameraParameters
+from active_recognition.options.flags_and_parameters import parameters, shown
 from active_recognition.options.recognizer_params import RecognizerParameters
 
 ROOT = Path(__file__).resolve().parents[1]

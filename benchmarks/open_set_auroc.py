@@ -1,7 +1,8 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""Open-set recognition: how well each score (open_set.py) tells objects of no known class from known ones.
+"""Open-set recognition: how well each score (active_recognition/unknown/scores.py) tells objects of
+no known class from known ones.
 
 Known objects are the dataset's test split; unknown ones the generated `unknowns` of their test
 styles (datasets/unknowns.py). The operating point of each score is chosen on validation only:
@@ -18,8 +19,8 @@ Prints, after 1 to --steps views, each score's AUROC and FPR@95 (the share of un
 accepted when 95 % of known ones are); then, at the operating point that accepts --known-rate of
 the known validation objects after 3, 6 and 9 views, the share of known test objects answered
 unknown, the share of unknown ones answered unknown, and the known accuracy counting an unknown
-answer as wrong. Where the checkpoint carries its own open_set (python -m
-active_recognition.unknown.fit), the same three at its stored per-step thresholds as the
+answer as wrong. Where the checkpoint carries its own open_set (active-recognition
+open-set-fit), the same three at its stored per-step thresholds as the
 recognizer answers (its hold: a confident answer that looks unknown waits), in episodes cut after
 3, 6 and 9 views and at their end (key `stored`), and the same for episodes of --compare's
 planner (default random: what choosing the views adds; key `compared`). Writes
@@ -163,7 +164,7 @@ def run(args):
               "closed_set_accuracy": {str(k): r4(ro.accuracy()[k - 1]) for k in VIEWS if k <= args.steps}}
     record |= operating(sc["known_val"], sc["known_test"], sc["unknown_test"], ro, args.known_rate)
     record["unknown_flagged_by_kind"] = by_kind(runs["unknown_test"], chosen, record["operating_point"][chosen])
-    if model.open_set is not None:  # the checkpoint's own operating point (open_set_fit.py)
+    if model.open_set is not None:  # the checkpoint's own operating point (unknown/fit.py)
         terms = [size_terms(model, shapes, recs[name][0], args.size)
                  for name, shapes in (("known_test", test), ("unknown_test", unknown["test"]))]
         entry = model.open_set if terms[0].any() else {  # no size term: the thresholds fitted without one

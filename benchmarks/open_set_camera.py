@@ -70,7 +70,7 @@ def run(ap, args):
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model = checkpoint.load_model(path)[0]
     if model.open_set is None:
-        ap.error(f"{path}: carries no open_set (python -m active_recognition.unknown.fit)")
+        ap.error(f"{path}: carries no open_set (active-recognition open-set-fit)")
     node = RecognizerParameters()  # the node's defaults
     sensing = replace(node.sensing, use_size=False) if args.no_size else node.sensing
     core = ActiveRecognizer(str(path), node.episode, args.seed, node.node.planner, sensing, node.limits)

@@ -23,8 +23,8 @@ docs/results/modelnet10/validation_camera.json (a partial run must give --out); 
 With --ship the chosen planner becomes modelnet10.pt's `default_planner` (the node's planner
 `auto`) and docs/results/modelnet10/summary.json's: ModelNet10's model serves a robot's camera,
 so its default is chosen here, and benchmarks/planners.py keeps it. The `unknown` thresholds are
-fitted for the planner `auto` names: after a change, fit them again (python -m
-active_recognition.unknown.fit --camera realsense).
+fitted for the planner `auto` names: after a change, fit them again (active-recognition
+open-set-fit --camera realsense).
 
 `--scores CSV` also writes the default planner's episodes of the first start, known and unknown,
 one row each: its group, object, class and `near`, and per view the answer, the prototype score,
@@ -152,7 +152,7 @@ def ship(path, chosen, summary):
         write_json(summary, {**json.loads(summary.read_text()), "default_planner": chosen,
                              "default_chosen_by": "validation_camera.json"})
     print(f"{path}: default planner {chosen}; its unknown thresholds are fitted for the planner auto "
-          f"names: after a change, python -m active_recognition.unknown.fit --camera realsense")
+          f"names: after a change, active-recognition open-set-fit --camera realsense")
 
 
 def run(ap, args):
@@ -178,7 +178,7 @@ def run(ap, args):
     path = checkpoint.model_path(args.checkpoint, "modelnet")
     model, _, ckpt = checkpoint.load_model(path)
     if model.open_set is None:
-        print(f"{path}: carries no open_set (python -m active_recognition.unknown.fit): its prototype "
+        print(f"{path}: carries no open_set (active-recognition open-set-fit): its prototype "
               f"score is not measured, and energy_mean breaks ties")
     default = args.reference or ckpt.get("default_planner") or "learned"
     val = open_splits("modelnet", args.root, ("val",), default_cache_dir())["val"]

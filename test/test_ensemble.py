@@ -1,7 +1,7 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""ensemble.py and combine.py: several networks as one model, against each member run alone."""
+"""ensemble.py and write_ensemble.py: several networks as one model, against each member run alone."""
 import numpy as np
 import pytest
 import torch

@@ -1,7 +1,7 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""Atomic writes (files.py): a writer that fails leaves the old file and no temporary file."""
+"""Atomic writes (atomic_files.py): a writer that fails leaves the old file and no temporary file."""
 import threading
 from pathlib import Path
 

@@ -20,8 +20,8 @@ from ros2_cli import RECOGNIZE, Running, nodes_up, ros2, until
 
 from active_recognition.datasets import default_cache_dir, open_dataset
 from active_recognition.model import checkpoint
-from active_recognition.options.flags_and_parameters import parameters
 from active_recognition.options.camera_params import SimulatedCameraParameters
+from active_recognition.options.flags_and_parameters import parameters
 from active_recognition.options.recognizer_params import RecognizerParameters
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -136,7 +136,7 @@ def test_the_benchmark_reports_every_score_by_views(tmp_path, capsys):
 
     out = tmp_path / "open_set.json"
     load_benchmark("open_set_auroc").main(["--dataset", "procedural", "--objects", "4", "--fit-objects", "20",
-                                     "--steps", "3", "--out", str(out)])
+                                           "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     assert set(last) == {"auroc", "fpr95", "known_rejected", "unknown_flagged", "known_accuracy", "chosen"}
     assert set(last["auroc"]) == set(open_set.SCORES) and all(len(v) == 3 for v in last["auroc"].values())
@@ -457,7 +457,7 @@ def test_the_benchmark_reports_a_stored_operating_point(tmp_path, capsys, score,
                                                           "threshold": top, "fitted_on": {}}, tmp_path / "s.pt")
     out = tmp_path / "open_set.json"
     load_benchmark("open_set_auroc").main(["--dataset", "procedural", "--checkpoint", str(tmp_path / "s.pt"),
-                                     "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
+                                           "--objects", "4", "--fit-objects", "20", "--steps", "3", "--out", str(out)])
     last = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
     stored, record = last["stored"], json.loads(out.read_text())
     assert set(stored["known_rejected"]) == {"3", "end", "unheld"} and stored["threshold"] == [top] * 3

@@ -14,8 +14,8 @@ from active_recognition.cli import build_parser
 from active_recognition.evaluation.evaluate import EvalConfig
 from active_recognition.model import checkpoint
 from active_recognition.options import command_options as co
-from active_recognition.options.flags_and_parameters import leaves, parameters
 from active_recognition.options.camera_params import SimulatedCameraParameters
+from active_recognition.options.flags_and_parameters import leaves, parameters
 from active_recognition.options.recognizer_params import RecognizerParameters
 from active_recognition.options_docs import generated
 from active_recognition.sensing.reach import ViewLimits

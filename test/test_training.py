@@ -344,7 +344,7 @@ def test_a_resume_with_settings_that_fix_the_batches_changed_is_refused(tmp_path
 @pytest.mark.parametrize("ahead", [{"prefetch": True}, {"render_process": True}])
 def test_batches_made_ahead_train_the_same_weights_bit_for_bit(tmp_path, ahead):
     """--prefetch makes each batch's augmented cameras and renders on a thread ahead of the
-    network (ahead.py), --render-process on a process of its own (render_worker.py): every draw
+    network (prefetch.py), --render-process on a process of its own (render_worker.py): every draw
     comes from the batch's own generator, so the run is the same."""
     cfg = {**TINY, "policy": "imitation", "joint_epochs": 1, "mirror": 0.5, "stretch": 0.2,
            "frame_error": 0.05, "floor_cut": 0.05, "dropout": 0.1,

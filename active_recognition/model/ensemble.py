@@ -9,9 +9,9 @@ log-probabilities over the candidates, its FC_loc the first member's. Members ke
 weights: a network trained without outliers (the better classifier) beside one trained with them
 (the better judge of unknown objects). `judges` names the members whose averaged logits give the
 energy the `unknown` answer reads (`judge_logits`; default every member): the judge need not be
-the classifier. Nothing is trained here; combine.py writes an ensemble's checkpoint (every
+the classifier. Nothing is trained here; training/write_ensemble.py writes an ensemble's checkpoint (every
 member's weights under 'model', their number under 'members', the judges under 'judges'), and
-its `unknown` answer is fitted on the ensemble itself (open_set_fit.py).
+its `unknown` answer is fitted on the ensemble itself (unknown/fit.py).
 """
 from __future__ import annotations
 

@@ -124,7 +124,8 @@ class RecurrentAttention(nn.Module):
         super().__init__()
         self.config = config
         self.size_prior = None  # size_prior.SizePrior a checkpoint may carry: episodes answer with it
-        self.open_set = None  # a checkpoint's open_set entry (unknown/thresholds.checked_open_set): the recognizer's unknown
+        # a checkpoint's open_set entry (unknown/thresholds.checked_open_set): the recognizer's unknown answer
+        self.open_set = None
         build = {"compact": compact_encoder, "wide": wide_encoder, "alexnet": alexnet_encoder}[config.encoder]
         self.encoder = build(config.feature_size)
         inputs = config.feature_size + (3 if config.view_input else 0)

@@ -23,8 +23,8 @@ from active_recognition.argument_checks import InputError, group
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, \
     run_node
 from active_recognition.nodes.camera_tf import CameraTf
-from active_recognition.options.flags_and_parameters import parameters
 from active_recognition.options.camera_params import ObjectSource, SimulatedCameraParameters
+from active_recognition.options.flags_and_parameters import parameters
 from active_recognition.simulation.depth_sensor import SimulatedCamera
 
 PARAMS = parameters(SimulatedCameraParameters)  # name: options.Param (default, check, description)

@@ -8,7 +8,7 @@ Every option is one dataclass field made with `validation.option` (default, chec
 option (the field's name with dashes; a boolean that defaults to true is `--no-NAME`), typed by
 the field's check, so a bad value is refused with the check's words. `parameters` lists a node's
 parameters with what a ROS descriptor says of them (nodes/__init__.py declares them).
-reference.py writes docs/options.md and the nodes' config/*.yaml from the same definitions.
+options_docs.py writes docs/options.md and the nodes' config/*.yaml from the same definitions.
 """
 from __future__ import annotations
 

@@ -85,8 +85,8 @@ class SensingConfig:
         "an episode whose mean prototype score over its views (1 - the cosine of each view's "
         "recurrent state to the nearest class mean) ends above this ends with status unknown, "
         "its best class and probability kept; -1 = the checkpoint's own score and thresholds, one "
-        "for each number of views (none where it carries no open_set: python -m "
-        "active_recognition.unknown.fit), 0 = never; either this or unknown_energy suffices"))
+        "for each number of views (none where it carries no open_set: active-recognition "
+        "open-set-fit), 0 = never; either this or unknown_energy suffices"))
     hold_unknown: bool = option(True, help=(
         "while the views' mean score is above the unknown threshold (the checkpoint's own score, "
         "prototype_mean or energy_mean; prototype_mean where unknown_threshold is above 0; never "

@@ -6,7 +6,7 @@
 The members must share their options and classes. The checkpoint holds every member's weights
 under 'model', their number under 'members', the members whose logits the `unknown` score reads
 under 'judges', the first member's size prior, planner, path and training options, and the sum of
-the members' training time. Fit its `unknown` answer afterwards (open_set_fit.py).
+the members' training time. Fit its `unknown` answer afterwards (unknown/fit.py).
 
     python -m active_recognition.training.write_ensemble MEMBER.pt MEMBER.pt [...] --out ENSEMBLE.pt [--judges 0]
 """
@@ -70,7 +70,7 @@ def main(argv=None):
     except InputError as e:
         ap.error(str(e))
     print(f"{args.out}: {len(args.members)} members; fit its unknown answer with "
-          "python -m active_recognition.unknown.fit", file=sys.stderr)
+          "active-recognition open-set-fit", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -25,11 +25,11 @@ chosen on those, and the means are whichever set tells the val unknowns better. 
 --unknowns real_unknowns the val unknowns are real meshes (datasets/real_unknowns.py) in place
 of the generated ones. With --score energy_mean through a camera, --size-weights W... adds a
 size term to the score, each val episode's weight x the size prior's surprise at its object's size
-(open_set.size_term), the weight that flags the most val unknowns kept and the thresholds fitted
+(scores.size_term), the weight that flags the most val unknowns kept and the thresholds fitted
 without it stored beside (for a recognizer not told the size); off by default (docs/training.md).
 The checkpoint is rewritten atomically.
 
-    python -m active_recognition.unknown.fit --checkpoint PATH --dataset modelnet --root DIR
+    active-recognition open-set-fit --checkpoint PATH --dataset modelnet --root DIR
         [--objects 600] [--known-rate 0.97] [--camera realsense] [--unknowns real_unknowns
         --unknowns-root DIR] [--score prototype_mean|energy_mean] [--size-weights W ...] [--out PATH]
 """
