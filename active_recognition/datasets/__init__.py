@@ -3,7 +3,10 @@
 
 """Shape datasets: ModelNet, ShapeNetCore, a plain folder, the embedded benchmarks (procedural,
 twins) and the objects of no known class for open-set recognition: generated (unknowns) or real meshes
-rebuilt from public repositories (real_unknowns)."""
+rebuilt from public repositories (real_unknowns); shapes (a split as rendered scenes) and augment
+(what a robot's object frame and camera get wrong, drawn per training episode). The datasets layer
+sits above the runtime: it imports sensing, model and the top-level foundation modules, and nothing
+a robot runs imports it (test/test_layers.py)."""
 from __future__ import annotations
 
 import warnings

@@ -1,7 +1,11 @@
 # Copyright 2026 active_recognition maintainers
 # SPDX-License-Identifier: Apache-2.0
 
-"""Thin rclpy shells around the core (the only place rclpy is imported)."""
+"""Thin rclpy shells around the core (the only place rclpy is imported): messages in, events to the
+runtime, its commands out as messages. The nodes layer may import every layer below it; the
+recognizer node's imports stay within the runtime, the options and msg_adapters (no training,
+evaluation, datasets or simulated camera: test/test_layers.py), and the simulated camera node's
+add the datasets and simulation."""
 import difflib
 import functools
 import sys
