@@ -87,3 +87,18 @@ def test_the_recognizer_node_loads_no_harness_no_dataset_and_no_simulated_camera
     assert f"{PKG}.runtime.active_recognizer" in loaded and f"{PKG}.options.recognizer_params" in loaded
     found = [m for m in loaded if m.startswith(FORBIDDEN)]
     assert found == []
+
+
+def test_no_two_modules_share_a_file_name():
+    """A name says which module: no two files of the package and msg_adapters share one (the core
+    recognizer is runtime/active_recognizer.py beside nodes/recognizer.py), nor a benchmark one of
+    theirs (benchmarks/depth_layer_speed.py, not a second depth_layer.py)."""
+    names = {}
+    for folder in (PKG, "msg_adapters"):
+        for path in (ROOT / folder).rglob("*.py"):
+            if path.name != "__init__.py":
+                names.setdefault(path.name, []).append(str(path.relative_to(ROOT)))
+    shared = {name: paths for name, paths in names.items() if len(paths) > 1}
+    assert shared == {}
+    clash = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py") if p.name in names)
+    assert clash == []
