@@ -437,3 +437,13 @@ def test_the_installed_command_exits_2_with_one_line(files, argv, message):
     status, out, err = run_process([a.format(files=files) for a in argv])
     assert status == 2 and out == ""
     assert len(err.splitlines()) == 1 and message in err, err
+
+
+@pytest.mark.parametrize("argv,message", [
+    (["--checkpoint", "{tmp}/none.pt", "--dataset", "procedural"], "none.pt: no such file"),
+    (["--dataset", "procedural", "--score", "msp"], "argument --score: invalid choice"),
+])
+def test_open_set_fit_is_a_subcommand_that_refuses_in_one_line(tmp_path, capsys, argv, message):
+    """The unknown answer's fit (unknown/fit.py) as `active-recognition open-set-fit`: bad input
+    ends before any work, in one line."""
+    refused(["open-set-fit", *[a.format(tmp=tmp_path) for a in argv]], message, capsys)
