@@ -170,7 +170,7 @@ def main(argv=None):
             load = os.getloadavg()[0]
             runs[variant] = {**run(variant, args.count, folder), "load_average_1min": load}
             print(f"{variant:>20}: {runs[variant]}", flush=True)
-    from active_recognition.report import write_json
+    from active_recognition.evaluation.report import write_json
     result = {"cpu": model, "avx_flags": avx, "cpu_count": os.cpu_count(), "count": args.count,
               "writer": "info, pose, then a 640x480 16UC1 image at 5 Hz; default QoS; Fast DDS defaults",
               "runs": runs}
