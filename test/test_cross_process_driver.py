@@ -8,6 +8,8 @@ the frame and resends it only at its next heartbeat, 3 s on. The recognizer, sta
 start it with its defaults, answers every goal, asking again for a view whose pose is late."""
 import os
 
+import numpy as np
+
 import pytest
 
 from conftest import import_ros, load_benchmark
@@ -32,8 +34,14 @@ def test_every_goal_through_a_driver_camera_that_publishes_each_pose_first_is_an
     assert all(r["status"] in ("recognized", "unsure", "unknown") for r in rows), rows
     assert all(len(r["view_waits"]) == r["views"] > 0 for r in rows), rows  # each view's split
     assert figures["views"] == sum(r["views"] for r in rows)
-    # without the re-ask about 3 poses in 10 are lost and each is waited for until its writer's
-    # next heartbeat, 0 to 3 s on (some 20 s over these views); with it, a second or two
-    waited = sum(v["pose"] for r in rows for v in r["view_waits"])
-    assert waited < 8.0, [r["view_waits"] for r in rows]
+    # without the re-ask, 3 poses in 10 (more on a busy machine: docs/results/pose_loss.json) are
+    # lost and each is waited for until pose_wait, 3.5 s; with it, a lost pose costs the camera's
+    # round trip once more for each try. So the views' pose waits stay within (re-asks + views)
+    # round trips, the round trip as this run's camera gave it (its image wait, 90th percentile,
+    # twice), whatever the load; a wait for pose_wait costs 3.5 s and breaks it
     assert {"view image wait p99 (ms)", "view pose wait p99 (ms)"} <= set(diagnostics), diagnostics
+    views = [v for r in rows for v in r["view_waits"]]
+    trip = 2 * (float(np.percentile([v["image"] for v in views], 90)) + 0.05)  # + pose_reask
+    asked_again = int(float(diagnostics["views asked again for a late pose"]))
+    waited = sum(v["pose"] for v in views)
+    assert waited <= (asked_again + len(views)) * trip, (waited, asked_again, trip, views)

@@ -33,7 +33,7 @@ from active_recognition.sensing.geometry import Intrinsics, travel
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
 IMAGE_COUNTS = ("received", "classified", "matched", "empty", "stale")  # as "images <count>"
-FIRST_POSE_TRIES = 4  # tries of a view before any pose came, where camera/pose has a publisher
+FIRST_POSE_TRIES = 10  # tries of a view before any pose came (camera/pose has a publisher), within pose_wait
 
 
 @dataclass
