@@ -18,6 +18,7 @@ per image, whether its pose came. The reader is varied, each variant a fresh pai
 
 Last line is JSON, also written to docs/results/pose_loss.json (or --out)."""
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -117,11 +118,12 @@ def read(count, variant, quiet_s=4.0):
     late = [poses[k] - sent[k] for k in sent if k in poses]
     order = sorted(sent)
     half = len(order) // 2
-    print({"stamps": len(infos), "images": len(images), "poses": len(poses),
-           "lost": sum(k not in poses for k in sent),
-           "lost_second_half": sum(k not in poses for k in order[half:]),  # discovery long done
-           "late_over_50ms": sum(x > 0.05 for x in late),
-           "late_p99_ms": float(np.percentile(late, 99)) * 1e3 if late else None}, flush=True)
+    counts = {"stamps": len(infos), "images": len(images), "poses": len(poses),
+              "lost": sum(k not in poses for k in sent),
+              "lost_second_half": sum(k not in poses for k in order[half:]),  # discovery long done
+              "late_over_50ms": sum(x > 0.05 for x in late),
+              "late_p99_ms": float(np.percentile(late, 99)) * 1e3 if late else None}
+    print(json.dumps(counts), flush=True)
 
 
 def run(variant, count, folder):
@@ -141,8 +143,7 @@ def run(variant, count, folder):
     out, _ = reader.communicate(timeout=120)
     if writer.returncode or reader.returncode:
         raise SystemExit(f"pose_loss: {variant} failed:\n{writer.stderr[-2000:]}\n{out[-2000:]}")
-    import ast
-    return ast.literal_eval(out.strip().splitlines()[-1])
+    return json.loads(out.strip().splitlines()[-1])
 
 
 def main(argv=None):
