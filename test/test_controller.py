@@ -4,11 +4,14 @@
 """The recognizer's loop (controller.Controller) without rclpy, on a simulated clock: the shipped
 procedural model and the simulated camera's core answer its requests, and each test asserts the
 commands it issues and the status its episode ends with."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from conftest import sure_or_not
 
 from active_recognition.model.checkpoint import shipped
+from active_recognition.model.episode import EpisodeConfig
 from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
 from active_recognition.runtime.controller import AskView, Controller, End, FIRST_POSE_TRIES, Refuse, Step, Timing
 from active_recognition.sensing import geometry
@@ -22,7 +25,7 @@ def core():
 
 @pytest.fixture
 def loop(core):
-    core.rng, core.sensing = np.random.default_rng(0), SensingConfig()
+    core.rng, core.sensing, core.stop = np.random.default_rng(0), SensingConfig(), EpisodeConfig()  # as built
     return Controller(core, Timing(view_timeout=3.0, max_retries=1, pose_tolerance=0.05,
                                    pose_wait=0.05, episode_timeout=60.0))
 
@@ -135,7 +138,8 @@ def test_a_pose_that_never_comes_is_given_up_after_the_tolerance(loop, camera):
 
 
 def test_with_poses_required_an_image_without_one_is_refused_and_asked_again(loop, camera):
-    loop.require_pose, loop.pose_from = True, "transform object <- camera"
+    loop = Controller(loop.core, loop.timing, pose_source="tf")
+    loop.transform_missing("transform object <- camera")  # as TfPoses.poll says it
     ask = loop.start(0.0)[0]
     metres, position, rotation = camera.capture(ask.position, ask.rotation)
     assert loop.image(0.1, ask.stamp, metres) == [] and loop.tick(0.14) == []
@@ -246,7 +250,7 @@ def late_pose_loop(loop, camera, pose_reask=0.15):
     with its pose (poses come) at 0.5 s -> the request for the second view."""
     loop.timing = Timing(view_timeout=3.0, pose_tolerance=0.05, pose_wait=3.5,
                          pose_reask=pose_reask)
-    loop.default_threshold = 0.0  # never sure: the episode goes on
+    loop.core.stop = replace(loop.core.stop, entropy_threshold=0.0)  # configured never sure: the episode goes on
     first = loop.start(0.0, max_views=10, sensing=SensingConfig(recentre=0.0))[0]
     out = answer(loop, camera, first, 0.5)
     assert kinds(out) == ["AskView", "Step"]
@@ -302,10 +306,9 @@ def test_no_view_is_asked_again_with_pose_reask_zero_nor_before_a_first_pose(loo
     assert loop.image(1.0, ask.stamp, metres) == []
     assert [loop.tick(t) for t in (1.2, 2.0, 4.4)] == [[], [], []]  # until pose_wait
     assert "Step" in kinds(loop.tick(4.6)) and loop.counts["reasked"] == 0
-    loop.timing, loop.require_pose = Timing(pose_wait=3.5, pose_reask=0.15), True  # TF: waited for
-    ask = loop.start(5.0)[-1]
-    assert loop.image(5.1, ask.stamp, metres) == [] and loop.tick(5.5) == []
-    loop.require_pose = False
+    tf = Controller(loop.core, Timing(pose_wait=3.5, pose_reask=0.15), pose_source="tf")  # TF: waited for
+    ask = tf.start(5.0)[-1]
+    assert tf.image(5.1, ask.stamp, metres) == [] and tf.tick(5.5) == [] and tf.counts["reasked"] == 0
     loop.poses.clear()  # a camera that publishes no pose
     loop.timing = Timing(pose_wait=3.5, pose_reask=0.15)
     ask = loop.start(10.0)[-1]

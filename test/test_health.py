@@ -10,7 +10,7 @@ import pytest
 
 from active_recognition.argument_checks import InputError
 from active_recognition.runtime.active_recognizer import ActiveRecognizer, least_top_score
-from active_recognition.runtime.health import Health, MIN_FRAMES, WINDOW_S
+from active_recognition.runtime.health import Health, MIN_FRAMES, WINDOW_S, unconfigured
 from active_recognition.sensing import camera_input_bounds as plausible
 from active_recognition.sensing.reach import ViewLimits
 from active_recognition.simulation.depth_sensor import SimulatedCamera
@@ -63,9 +63,9 @@ def test_rates_and_latency_are_over_the_window_and_an_unloaded_model_is_an_error
     assert values["step latency p99 (ms)"] == pytest.approx(np.percentile(ms, 99), rel=0.05)
     later = health.values(299 / 30 + WINDOW_S + 1)
     assert later["image rate (Hz)"] == 0 and later["step latency p50 (ms)"] == "none"
-    health.error = "/x.pt: no such file"
-    level, message = health.level(0.0, 3.0)
-    assert level == "ERROR" and "/x.pt: no such file" in message
+    level, message, values = unconfigured(OSError("/x.pt: no such file"), "unconfigured")
+    assert level == "ERROR" and "/x.pt: no such file" in message and values == {}
+    assert unconfigured(None, "unconfigured")[:2] == ("OK", "unconfigured: images are ignored")
 
 
 def entropy(p):

@@ -244,10 +244,11 @@ def test_the_docs_count_the_held_out_styles_as_the_code_does():
 
 
 def test_the_recognizer_node_is_a_thin_shell():
-    """nodes/recognizer*.py (the node and its outputs) together stay small: the loop lives in
-    controller.py, without ROS."""
-    lines = sum(len(p.read_text().splitlines()) for p in (ROOT / "active_recognition" / "nodes").glob("recognizer*.py"))
-    assert 0 < lines <= 350, lines
+    """The rclpy shell (the node, its outputs, its action server) stays small: the loop lives in
+    controller.py, without ROS. 477 lines: its size before its state was made explicit."""
+    nodes = ROOT / "active_recognition" / "nodes"
+    lines = sum(len(p.read_text().splitlines()) for p in (*nodes.glob("recognizer*.py"), nodes / "recognize_server.py"))
+    assert 0 < lines <= 477, lines
 
 
 def imported_modules(path):

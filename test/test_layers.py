@@ -3,7 +3,10 @@
 
 """The package's layers, as rules: each layer imports only from the layers below it, and what the
 recognizer node imports loads nothing of the harness (training, evaluation, benchmarks) or of the
-dataset generators and the simulated camera. The README's Layout lists the same folders."""
+dataset generators and the simulated camera. The README's Layout lists the same folders. The
+node's state is its own: its outputs and action server read none of it, and no one writes the
+controller's or the core's fields but themselves."""
+import ast
 import json
 import os
 import subprocess
@@ -102,3 +105,45 @@ def test_no_two_modules_share_a_file_name():
     assert shared == {}
     clash = sorted(p.name for p in (ROOT / "benchmarks").glob("*.py") if p.name in names)
     assert clash == []
+
+
+# What the recognizer's outputs and action server may use of the node: rclpy's factories and clock.
+RCLPY = {"create_lifecycle_publisher", "destroy_lifecycle_publisher", "create_guard_condition", "get_clock"}
+
+
+def node_reads(source):
+    """The attributes a module reads off `node` or `self.node`."""
+    return {n.attr for n in ast.walk(ast.parse(source)) if isinstance(n, ast.Attribute) and (
+        isinstance(n.value, ast.Name) and n.value.id == "node" or isinstance(n.value, ast.Attribute)
+        and n.value.attr == "node" and isinstance(n.value.value, ast.Name) and n.value.value.id == "self")}
+
+
+def written_fields(source, owners):
+    """`a.b` fields assigned in a module (`a`, `self.a`, `x.y.a`), for each `a` in `owners`."""
+    out = set()
+    for n in ast.walk(ast.parse(source)):
+        targets = n.targets if isinstance(n, ast.Assign) else [n.target] if isinstance(n, ast.AugAssign) else []
+        for t in (e for t in targets for e in (t.elts if isinstance(t, ast.Tuple) else [t])):
+            t = t.value if isinstance(t, ast.Starred) else t
+            if isinstance(t, ast.Attribute):
+                base = t.value.attr if isinstance(t.value, ast.Attribute) else getattr(t.value, "id", None)
+                if base in owners:
+                    out.add(f"{base}.{t.attr}")
+    return out
+
+
+def test_the_outputs_and_the_action_server_read_no_state_of_the_node():
+    for name in ("recognizer_outputs.py", "recognize_server.py"):
+        assert node_reads((ROOT / PKG / "nodes" / name).read_text()) <= RCLPY, name
+
+
+def test_only_the_controller_and_the_core_write_their_fields():
+    for path in sorted((ROOT / PKG / "nodes").glob("*.py")):
+        assert written_fields(path.read_text(), {"loop", "core", "controller"}) == set(), path.name
+    assert written_fields((ROOT / PKG / "runtime" / "controller.py").read_text(), {"core", "episode"}) == set()
+
+
+def test_the_state_rules_see_a_read_and_a_write():
+    assert node_reads("def f(node):\n    return node.loop.health, self.node.step_ms\n") == {"loop", "step_ms"}
+    assert written_fields("self.loop.require_pose, x = True, 1\nloop.timing += 1\nself.core.episode.config = 2\n",
+                          {"loop", "episode"}) == {"loop.require_pose", "loop.timing", "episode.config"}

@@ -383,8 +383,6 @@ def test_a_failed_configure_is_logged_and_reported_as_an_error_on_diagnostics():
     from lifecycle_msgs.msg import State
     from rclpy.lifecycle import TransitionCallbackReturn
 
-    from active_recognition.nodes.recognizer_outputs import diagnostics
-
     with ros_session() as (ctx, executor):
         recognizer = Recognizer(context=ctx, parameter_overrides=[
             Parameter("autostart", value=False), Parameter("checkpoint", value="/nonexistent.pt")])
@@ -393,7 +391,7 @@ def test_a_failed_configure_is_logged_and_reported_as_an_error_on_diagnostics():
         assert recognizer.core is None and recognizer.inputs == []
         assert recognizer.trigger_configure() == TransitionCallbackReturn.FAILURE
         assert recognizer._state_machine.current_state[0] == State.PRIMARY_STATE_UNCONFIGURED
-        status = diagnostics(recognizer, time.monotonic()).status[0]
+        status = recognizer.diagnostics(time.monotonic()).status[0]
         assert ma.level_name(status) == "ERROR" and "/nonexistent.pt: no such file" in status.message
         values = ma.status_values(status)
         assert values["model"] == "/nonexistent.pt" and values["model loaded"] == "false"

@@ -68,8 +68,8 @@ def tf_loop(**timing):
     """A Controller whose poses come from TF alone (pose_source tf), as the node sets it."""
     core = ActiveRecognizer(str(shipped("procedural")))
     core.rng = np.random.default_rng(0)
-    loop = Controller(core, Timing(pose_wait=0.2, view_timeout=1.0, **timing))
-    loop.require_pose, loop.pose_from = True, "transform cam -> object (Lookup would require extrapolation)"
+    loop = Controller(core, Timing(pose_wait=0.2, view_timeout=1.0, **timing), pose_source="tf")
+    loop.transform_missing("transform cam -> object (Lookup would require extrapolation)")
     return loop
 
 

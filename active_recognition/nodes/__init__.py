@@ -146,6 +146,11 @@ class Throttled:
             self.last[key] = now
             self.logger.warn(f"{text} ({self.counts[key]} so far)")
 
+    def values(self, keys, prefix="parameter "):
+        """{"refused KEY": count} of each of `keys` (0 if none) and of each key that starts with `prefix`."""
+        return {f"refused {key}": self.counts.get(key, 0) for key in
+                (*keys, *sorted(k for k in self.counts if k.startswith(prefix) and k not in keys))}
+
 
 def usage(prog, params):
     """What `NAME --help` prints: how to set the node's parameters, and each one's default and range."""

@@ -18,7 +18,7 @@ from rclpy.validate_topic_name import validate_topic_name
 
 from active_recognition.argument_checks import InputError
 from active_recognition.nodes.demo import spin_until
-from active_recognition.runtime.controller import check_goal
+from active_recognition.options.recognizer_params import check_goal
 from msg_adapters import UNLABELED
 
 SERVER_GONE_S = 3.0  # the action server gone this long: no result will come

@@ -11,22 +11,17 @@ recognized and unknown succeed, canceled is canceled (aborted when preempted), t
 no_frame, timeout) abort. Where the interface package cannot be imported the node
 runs without the action and says so once.
 """
-from dataclasses import replace
-
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.task import Future
 
-import msg_adapters as ma
 from active_recognition.argument_checks import InputError
 from active_recognition.nodes import guarded
-from active_recognition.runtime.controller import check_goal
 
 try:
     from active_recognition_interfaces.action import Recognize
 except ImportError as e:  # built by tools/build_interfaces.sh, or rosdep on a ROS install
     Recognize, MISSING = None, str(e)
-
-SUCCEEDS = ("recognized", "unknown")
+SUCCEEDS = ("recognized", "unknown")  # the statuses whose goal succeeds
 
 
 class RecognizeServer:
@@ -35,16 +30,17 @@ class RecognizeServer:
     execute coroutine, which only waits for its result. rclpy marks a goal canceling after
     on_cancel returns, so an end is settled by a callback of its own (`wake`), which runs after
     that: a cancel accepted before a goal's result is sent ends it CANCELED, whatever ended
-    its episode."""
+    its episode. The node's own part comes by the constructor (admit, start, cancel)."""
 
-    def __init__(self, node):
+    def __init__(self, node, refuse, admit, start, cancel):
         # running: goal id (bytes; the controller's goal) -> its handle, until its result is sent
         # results: goal id -> a Future of its Result (execute waits on it)
         # ends: goal id -> (its Result, the same canceled) of an ended episode, until settled
-        self.node, self.running, self.results, self.ends, self.server = node, {}, {}, {}, None
+        self.running, self.results, self.ends, self.server = {}, {}, {}, None
+        self.refuse, self.admit, self.start, self.cancel = refuse, admit, start, cancel
         if Recognize is None:
-            node.refuse.once("action", f"the recognize action is off: {MISSING} (bash "
-                                       f"tools/build_interfaces.sh builds it)", warn=True)
+            refuse.once("action", f"the recognize action is off: {MISSING} (bash tools/build_interfaces.sh builds it)",
+                        warn=True)
             return
         self.wake = node.create_guard_condition(guarded(node, self.settle))
         self.server = ActionServer(node, Recognize, "recognize", self.execute, goal_callback=self.on_goal,
@@ -57,34 +53,26 @@ class RecognizeServer:
 
     def on_goal(self, goal):
         """Accept a goal the node can run now; refuse the others, with the reason logged."""
-        node = self.node
         try:
-            if node.state != "active":
-                first = "configure and activate" if node.state == "unconfigured" else "activate"
-                raise InputError(f"the node is {node.state}: {first} it first")
-            check_goal(goal.object_size, goal.max_views, goal.time_budget)
-            if self.running and node.goal_policy == "reject":
-                raise InputError("another goal is running (goal_policy: reject)")
+            self.admit(goal, busy=bool(self.running))
         except InputError as e:  # goals are few: each refusal is logged
-            node.refuse.always("recognize", f"recognize goal rejected: {e}")
+            self.refuse.always("recognize", f"recognize goal rejected: {e}")
             return GoalResponse.REJECT
         return GoalResponse.ACCEPT
 
     def on_accepted(self, handle):
         """Start the goal's episode (one running ends canceled: preempted), then execute it."""
-        node, goal, key = self.node, handle.request, bytes(handle.goal_id.uuid)
+        key = bytes(handle.goal_id.uuid)
         self.running[key], self.results[key] = handle, Future()
-        node.apply(node.loop.start(node.now(), key, goal.object_frame, goal.object_size,
-                                   goal.max_views, node.sensing, goal.time_budget))
+        self.start(key, handle.request)
         handle.execute()
 
     def on_cancel(self, handle):
         """Accept a cancel until the goal's result is sent; its episode, if it runs, ends now."""
-        key, loop = bytes(handle.goal_id.uuid), self.node.loop
+        key = bytes(handle.goal_id.uuid)
         if key not in self.running:
             return CancelResponse.REJECT
-        if loop is not None and loop.goal == key:
-            self.node.apply(loop.cancel(self.node.now()))
+        self.cancel(key)  # the node ends its episode if it still runs
         self.wake.trigger()  # settled after rclpy has marked it canceling
         return CancelResponse.ACCEPT
 
@@ -94,18 +82,20 @@ class RecognizeServer:
         del self.results[key]
         return result
 
-    def feedback(self, step):
-        if step.goal in self.running:
-            self.running[step.goal].publish_feedback(Recognize.Feedback(
-                views=step.obs.views, classification=ma.classification(
-                    step.obs.probs, self.node.core.classes, step.header),
-                next_view=self.node.tf.view(step.next_view), travel=step.travel, elapsed=step.elapsed))
+    def serves(self, goal):
+        """Whether `goal` (a controller's goal) is one of this server's, its result not sent yet."""
+        return goal in self.running
 
-    def ended(self, end):
-        if end.goal in self.running:  # the result made now: a cleanup may free the outputs before it is sent
-            canceled = replace(end, obs=replace(end.obs, status="canceled"))
-            self.ends[end.goal] = self.result(end), self.result(canceled)
-            self.wake.trigger()
+    def feedback(self, goal, step, classification, next_view):
+        """A classified image of `goal`'s episode (a Step), its Classification and next_view."""
+        self.running[goal].publish_feedback(Recognize.Feedback(
+            views=step.obs.views, classification=classification, next_view=next_view,
+            travel=step.travel, elapsed=step.elapsed))
+
+    def ended(self, goal, end, verdict, canceled):
+        """The episode of `goal` is over (an End), its Classification `verdict` (`canceled` if a cancel came first)."""
+        self.ends[goal] = self.result(end, end.obs.status, verdict), self.result(end, "canceled", canceled)
+        self.wake.trigger()
 
     def settle(self):
         """Send the result of each goal whose episode ended: canceled where a cancel was
@@ -121,7 +111,8 @@ class RecognizeServer:
                 handle.abort()
             self.results[key].set_result(result)
 
-    def result(self, end):
-        return Recognize.Result(status=end.obs.status, classification=self.node.outputs.verdict(end),
+    @staticmethod
+    def result(end, status, classification):
+        return Recognize.Result(status=status, classification=classification,
                                 views=end.result["views"], travel=end.result["travel"],
                                 elapsed=end.result["elapsed"], robot_seconds=end.result["robot_seconds"])

@@ -23,18 +23,19 @@ from active_recognition.model.checkpoint import model_path
 from active_recognition.nodes import Throttled, check_parameter, declare_parameters, guarded, run_node
 from active_recognition.nodes.inputs import CameraInputs
 from active_recognition.nodes.recognize_server import RecognizeServer
-from active_recognition.nodes.recognizer_outputs import Outputs, diagnostics
+from active_recognition.nodes.recognizer_outputs import Outputs
 from active_recognition.nodes.recorder import Recorder, recorded_topics
 from active_recognition.nodes.tf_poses import TfPoses
 from active_recognition.options.flags_and_parameters import parameters
-from active_recognition.options.recognizer_params import RecognizerParameters, changed
+from active_recognition.options.recognizer_params import RecognizerParameters, changed, check_goal
 from active_recognition.runtime.active_recognizer import ActiveRecognizer
 from active_recognition.runtime.controller import Controller
-from active_recognition.runtime.controller_commands import Refuse
+from active_recognition.runtime.controller_commands import Refuse, Step
+from active_recognition.runtime.health import unconfigured
 
 PARAMS = parameters(RecognizerParameters)  # name: options.Param (default, check, description)
 CHECKS = {name: param.check for name, param in PARAMS.items()}
-DIAGNOSTICS_S = 1.0  # /diagnostics period
+INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_wait", "planning_frame")  # refusals
 SUCCESS, FAILURE = TransitionCallbackReturn.SUCCESS, TransitionCallbackReturn.FAILURE
 
 
@@ -58,10 +59,11 @@ class Recognizer(LifecycleNode):
         self.add_on_set_parameters_callback(guarded(self, self.on_parameters, lambda params: SetParametersResult(
             successful=False, reason="internal error")))
         self.create_service(Trigger, "~/reset", guarded(self, self.on_reset, self.reset_failed))
-        self.action = RecognizeServer(self)  # the `recognize` action (where it can be had)
+        # the `recognize` action (where it can be had)
+        self.action = RecognizeServer(self, self.refuse, self.admit_goal, self.start_goal, self.cancel_goal)
         # not a lifecycle publisher: a manager sees why configure failed (ERROR) and an idle node
         self.pub_diagnostics = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
-        self.create_timer(DIAGNOSTICS_S, guarded(self, self.on_diagnostics))
+        self.create_timer(1.0, guarded(self, lambda: self.pub_diagnostics.publish(self.diagnostics(self.now()))))
         if self.autostart and self.trigger_configure() != SUCCESS:
             raise self.failure  # run_node: one line, exit 2
         if self.autostart and self.trigger_activate() != SUCCESS:
@@ -90,10 +92,9 @@ class Recognizer(LifecycleNode):
                 self.get_logger().error(f"configure failed: {e}")
             return FAILURE
         self.sensing, self.goal_policy, self.failure = cfg.sensing, p["goal_policy"], None
-        self.loop = Controller(self.core, cfg.timing, p["frame_id"], cfg.robot)
-        self.loop.require_pose, self.loop.pose_from = self.tf.on, "transform of the image's frame from TF"
+        self.loop = Controller(self.core, cfg.timing, p["frame_id"], cfg.robot, p["pose_source"])
         # LabelInfo's threshold: the least top score a recognised class has (below it: unsure)
-        self.outputs = Outputs(self, self.core.classes, self.core.confidence)
+        self.outputs = Outputs(self, self.refuse, self.core.classes, self.core.confidence, self.tf.view, self.action)
         if p["record"]:
             self.recorder = Recorder(self, p["record"], recorded_topics())
             self.get_logger().info(f"recording the loop's topics to {self.recorder.path}")
@@ -133,8 +134,18 @@ class Recognizer(LifecycleNode):
             self.on_deactivate(state)
         return self.on_cleanup(state) if self.loop is not None else SUCCESS
 
-    def on_diagnostics(self):
-        self.pub_diagnostics.publish(diagnostics(self, self.now()))
+    def diagnostics(self, now):
+        """The DiagnosticArray of /diagnostics; `now` is the clock's seconds."""
+        state, loop, failure = self.state, self.loop, self.failure
+        level, message, values = loop.report(now, state == "active", state) if loop else unconfigured(failure, state)
+        values = {"state": state, "model": self.model_file or "", "model loaded": self.core is not None,
+                  **({"classes": len(self.core.classes), "planner": self.core.planner} if self.core else {}),
+                  "image_qos": self.image_qos,
+                  **{f"{sub.topic} reliability": sub.reliability for sub in self.inputs}, **values,
+                  **self.refuse.values(INPUT_KEYS)}
+        status = ma.diagnostic_status(f"{self.get_fully_qualified_name().lstrip('/')}: recognition", level,
+                                      message, values)
+        return ma.diagnostic_array([status], self.get_clock().now().to_msg())
 
     def close_recorder(self):
         if self.recorder is not None:
@@ -155,8 +166,8 @@ class Recognizer(LifecycleNode):
                 name, values[p.name] = p.name, check_parameter(CHECKS, p.name, p.value)
             name = "sensing"
             if self.loop is not None:
-                self.sensing, self.loop.timing, self.loop.cost = changed(values, self.sensing, self.loop.timing,
-                                                                         self.loop.cost)
+                self.sensing, *timing = changed(values, self.sensing, self.loop.timing, self.loop.cost)
+                self.loop.retime(*timing)
         except InputError as e:
             self.refuse(f"parameter {name}", f"parameter refused: {e}")
             return SetParametersResult(successful=False, reason=str(e))
@@ -175,6 +186,23 @@ class Recognizer(LifecycleNode):
     def reset_failed(self, request, response):
         response.success, response.message = False, "reset failed (logged); try again"
         return response
+
+    def admit_goal(self, goal, busy):
+        """Refuse (InputError) a goal the node cannot run now; `busy`: another goal runs."""
+        if self.state != "active":
+            first = "configure and activate" if self.state == "unconfigured" else "activate"
+            raise InputError(f"the node is {self.state}: {first} it first")
+        check_goal(goal.object_size, goal.max_views, goal.time_budget)
+        if busy and self.goal_policy == "reject":
+            raise InputError("another goal is running (goal_policy: reject)")
+
+    def start_goal(self, key, goal):
+        self.apply(self.loop.start(self.now(), key, goal.object_frame, goal.object_size, goal.max_views,
+                                   self.sensing, goal.time_budget))
+
+    def cancel_goal(self, key):
+        if self.loop is not None and self.loop.goal == key:
+            self.apply(self.loop.cancel(self.now()))
 
     def on_timer(self):
         if self.state != "active":
@@ -215,8 +243,11 @@ class Recognizer(LifecycleNode):
         for c in commands:
             if isinstance(c, Refuse):
                 self.refuse(c.key, c.reason)
-            else:  # AskView, Step, End
-                self.outputs.send(c)
+                continue
+            if isinstance(c, Step):  # image in -> next view out (its AskView went first)
+                self.step_ms.append((time.perf_counter() - c.arrived) * 1e3)
+                self.loop.health.step(self.now(), self.step_ms[-1])
+            self.outputs.send(c)  # AskView, Step, End
         if self.loop is not None:
             for key, text in self.loop.notes:
                 self.refuse.once(key, text)

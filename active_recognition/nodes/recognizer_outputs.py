@@ -4,10 +4,9 @@
 """What the recognizer publishes, from the controller's commands: next_view, each classified
 image (today's topics, the vision_msgs Classification with the image's header, the action's
 feedback) and each episode's end (the JSON result, its Classification, the action's result);
-the latched class names and LabelInfo; its /diagnostics status. Without vision_msgs its outputs
-are off and the node says so once."""
+the latched class names and LabelInfo: from the command and what configure fixed alone.
+Without vision_msgs its outputs are off and the node says so once."""
 import json
-import time
 
 from geometry_msgs.msg import PoseStamped
 from rclpy.qos import QoSDurabilityPolicy, QoSProfile
@@ -17,17 +16,17 @@ from visualization_msgs.msg import MarkerArray
 import msg_adapters as ma
 from active_recognition.nodes.recorder import vision_topics
 from active_recognition.runtime.controller_commands import AskView, End, Step
-from active_recognition.runtime.health import Health
 
 LATCHED = QoSProfile(depth=1, durability=QoSDurabilityPolicy.TRANSIENT_LOCAL)
-INPUT_KEYS = ("depth/image", "depth/camera_info", "camera/pose", "pose_wait", "planning_frame")  # refusals
 
 
 class Outputs:
-    """The recognizer's lifecycle publishers, made at configure: they send only while active."""
+    """The recognizer's lifecycle publishers, made at configure: they send only while active.
+    `view_msg`: an AskView's PoseStamped (TfPoses.view); `action` gets feedback and results."""
 
-    def __init__(self, node, classes, threshold):
+    def __init__(self, node, refuse, classes, threshold, view_msg, action):
         self.node, self.classes, self.threshold = node, list(classes), threshold
+        self.view_msg, self.action = view_msg, action
         make = node.create_lifecycle_publisher
         self.pubs = {"classes": make(String, "recognition/classes", LATCHED),
                      "probabilities": make(Float32MultiArray, "recognition/probabilities", 10),
@@ -40,8 +39,8 @@ class Outputs:
             for name, (kind, _) in vision_topics().items():
                 self.pubs[name] = make(kind, name, LATCHED if name.endswith("label_info") else 10)
         else:
-            node.refuse.once("vision_msgs", "vision_msgs outputs off (recognition/classification, recognition/"
-                             f"result/classification, recognition/label_info): {ma.VISION_MSGS_MISSING}", warn=True)
+            refuse.once("vision_msgs", "vision_msgs outputs off (recognition/classification, recognition/"
+                        f"result/classification, recognition/label_info): {ma.VISION_MSGS_MISSING}", warn=True)
 
     def destroy(self):
         for pub in self.pubs.values():
@@ -57,27 +56,27 @@ class Outputs:
     def send(self, c):
         """Publish a command of the controller: AskView, Step or End."""
         if isinstance(c, AskView):
-            self.pubs["view"].publish(self.node.tf.view(c))
+            self.pubs["view"].publish(self.view_msg(c))
         elif isinstance(c, Step):
             self.step(c)
         elif isinstance(c, End):
             if not c.replaced:  # as before the action: a reset replaces an episode silently
                 self.end(c)
-            self.node.action.ended(c)
+            if self.action.serves(c.goal):  # its result made now: a cleanup may free the outputs before it is sent
+                self.action.ended(c.goal, c, self.verdict(c), self.verdict(c, canceled=True))
 
     def step(self, c):
         """A classified image's probabilities, label, views so far, Classification, feedback."""
-        node, ms = self.node, (time.perf_counter() - c.arrived) * 1e3
-        node.step_ms.append(ms)
-        node.loop.health.step(node.now(), ms)
         self.pubs["probabilities"].publish(ma.probabilities_to_msg(c.obs.probs))
         self.pubs["label"].publish(String(data=c.obs.label))
-        self.pubs["markers"].publish(ma.view_markers(node.core.views_taken(), node.core.standoff(node.loop.k),
-                                                     node.loop.frame))
+        self.pubs["markers"].publish(ma.view_markers(c.views, c.standoff, c.frame))
+        serves = self.action.serves(c.goal)
+        if self.vision or serves:
+            classification = ma.classification(c.obs.probs, self.classes, c.header)
         if self.vision:
-            self.pubs["recognition/classification"].publish(ma.classification(c.obs.probs, self.classes,
-                                                                              c.header))
-        node.action.feedback(c)
+            self.pubs["recognition/classification"].publish(classification)
+        if serves:
+            self.action.feedback(c.goal, c, classification, self.view_msg(c.next_view))
 
     def end(self, end):
         """Publish the JSON result and the Classification of an episode that ended."""
@@ -85,35 +84,14 @@ class Outputs:
         if self.vision:
             self.pubs["recognition/result/classification"].publish(self.verdict(end))
 
-    def verdict(self, end):
-        """The Classification of an episode's end: UNLABELED first unless an object was
-        recognised, followed by the best guess so far; the last classified image's header, else
-        now in the object frame."""
+    def verdict(self, end, canceled=False):
+        """The Classification of an episode's end (`canceled`: had a cancel ended it): UNLABELED
+        first unless an object was recognised, followed by the best guess so far; the last
+        classified image's header, else now in the object frame."""
         header = end.header or Header(stamp=self.node.get_clock().now().to_msg(),
                                       frame_id=end.frame)
-        if end.obs.status == "recognized":
+        if end.obs.status == "recognized" and not canceled:
             return ma.classification(end.obs.probs, self.classes, header)
         if end.obs.probs is not None:
             return ma.unknown_classification(header, end.obs.probs, self.classes)
         return ma.unknown_classification(header)
-
-
-def diagnostics(node, now):
-    """The DiagnosticArray a Recognizer publishes on /diagnostics; `now` is its clock's seconds."""
-    state, loop = node.state, node.loop
-    if loop is not None:
-        level, message, values = loop.report(now, state == "active", state)
-    else:  # unconfigured: an error where configure failed
-        health = Health()
-        health.error = None if node.failure is None else str(node.failure)
-        (level, message), values = health.level(now, 1.0, False, state), {}
-    values = {"state": state, "model": node.model_file or "", "model loaded": node.core is not None,
-              **({"classes": len(node.core.classes), "planner": node.core.planner} if node.core else {}),
-              "image_qos": node.image_qos,
-              **{f"{sub.topic} reliability": sub.reliability for sub in node.inputs}, **values}
-    refused = node.refuse.counts
-    values.update({f"refused {key}": refused.get(key, 0) for key in INPUT_KEYS})
-    values.update({f"refused {key}": n for key, n in sorted(refused.items()) if key.startswith("parameter ")})
-    status = ma.diagnostic_status(f"{node.get_fully_qualified_name().lstrip('/')}: recognition", level,
-                                  message, values)
-    return ma.diagnostic_array([status], node.get_clock().now().to_msg())

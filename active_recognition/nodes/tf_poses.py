@@ -67,7 +67,7 @@ class TfPoses:
         header = loop.pending.header
         found = self.lookup(loop.frame, header.frame_id, header.stamp)
         if isinstance(found, str):  # why, for the refusal if it never comes
-            loop.pose_from = f"transform {header.frame_id} -> {loop.frame} ({' '.join(found.split())})"
+            loop.transform_missing(f"transform {header.frame_id} -> {loop.frame} ({' '.join(found.split())})")
             return []
         return loop.pose(now, loop.frame, ma.stamp_seconds(header.stamp), *found)
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 
-from active_recognition.argument_checks import SEED_MAX, nested, option, validate
+from active_recognition.argument_checks import InputError, SEED_MAX, checks, nested, option, validate
 from active_recognition.model.episode import EpisodeConfig, ROBOT
 from active_recognition.runtime.active_recognizer import NODE_PLANNERS, SensingConfig
 from active_recognition.runtime.controller import Timing
@@ -89,3 +89,15 @@ def changed(values, *configs):
     that are its fields changed (each validates itself)."""
     return tuple(replace(c, **{k: v for k, v in values.items() if k in {f.name for f in fields(c)}})
                  for c in configs)
+
+
+def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
+    """Refuse (InputError) a goal's object_size, max_views or time_budget outside its parameter's
+    range (0 keeps the node's parameter)."""
+    for name, value, config, unit in (("time_budget", time_budget, Timing, " robot seconds"),
+                                      ("object_size", object_size, SensingConfig, " m"),
+                                      ("max_views", max_views, EpisodeConfig, "")):
+        check = checks(config)[name]
+        if not (value == 0 or check.lo <= value <= check.hi):  # NaN too
+            lo = "" if check.lo == 0 else f" or {check.lo:g}"
+            raise InputError(f"{name} must be 0 (the node's){lo} to {check.hi:g}{unit}, got {value}")

@@ -17,7 +17,7 @@ is a thin shell around this class.
 from __future__ import annotations
 
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import torch
@@ -137,6 +137,7 @@ class ActiveRecognizer(UnknownDecision):
         self.reach = Reach(limits)
         planner = make_planner(self.planner, seed=seed, model=self.model,
                                fixed_path=ckpt.get("fixed_path"))
+        self.stop = episode  # the configured stop (entropy_threshold, max_views); reset may change it for one object
         self.episode = Episode(self.model, episode, planner, reach=self.reach,
                                forward=single_step(self.model), doubt=self.doubt)
         self.rng = np.random.default_rng(seed)
@@ -155,12 +156,16 @@ class ActiveRecognizer(UnknownDecision):
     def radius(self):
         return self.camera.radius
 
-    def reset(self, view=None, sensing=None):
+    def reset(self, view=None, sensing=None, max_views=0, entropy_threshold=None):
         """Start a new object at `view` (default: a random one of the initial views: the paper's
         50 within the elevation limits), with new sensing settings if given (they apply from
-        here on)."""
+        here on). Its episode stops below `entropy_threshold` or after `max_views` (0/None: as
+        configured), for this object alone."""
         if sensing is not None:
             self.sensing = sensing
+        self.episode.config = replace(self.stop, max_views=int(max_views) or self.stop.max_views,
+                                      entropy_threshold=self.stop.entropy_threshold if entropy_threshold is None
+                                      else float(entropy_threshold))
         if view is None:
             view = self.initial_views[self.rng.integers(len(self.initial_views))]
         self.episode.reset(torch.tensor(view, dtype=torch.float32),

@@ -20,9 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from active_recognition.argument_checks import InputError, checks
-from active_recognition.model.episode import EpisodeConfig
-from active_recognition.runtime.active_recognizer import SensingConfig
+from active_recognition.argument_checks import InputError
 from active_recognition.runtime.controller_commands import AskView, End, Refuse, Step
 from active_recognition.runtime.health import Health
 from active_recognition.runtime.robot_time import RobotTime
@@ -50,31 +48,19 @@ class Pending:
     older: tuple = ()
 
 
-def check_goal(object_size=0.0, max_views=0, time_budget=0.0):
-    """Refuse (InputError) a start the loop cannot run: a size, a view count or a budget outside
-    its parameter's range (0 keeps the node's)."""
-    for name, value, config, unit in (("time_budget", time_budget, Timing, " robot seconds"),
-                                      ("object_size", object_size, SensingConfig, " m"),
-                                      ("max_views", max_views, EpisodeConfig, "")):
-        check = checks(config)[name]
-        if not (value == 0 or check.lo <= value <= check.hi):  # NaN too
-            lo = "" if check.lo == 0 else f" or {check.lo:g}"
-            raise InputError(f"{name} must be 0 (the node's){lo} to {check.hi:g}{unit}, got {value}")
-
-
 class Controller:
-    """One object at a time on `core` (recognizer.ActiveRecognizer)."""
+    """One object at a time on `core` (recognizer.ActiveRecognizer), its poses from camera/pose
+    or, with `pose_source` "tf", from TF alone (an image without its measured pose is refused)."""
 
-    def __init__(self, core, timing=Timing(), frame="object", cost=RobotTime()):
-        self.core, self.timing, self.frame = core, timing, frame
-        self.default_frame, self.default_views = frame, core.episode.config.max_views
-        self.default_threshold = core.episode.config.entropy_threshold
+    def __init__(self, core, timing=Timing(), frame="object", cost=RobotTime(), pose_source="topic"):
+        self.core, self.timing, self.frame, self.default_frame = core, timing, frame, frame
+        self.require_pose = pose_source == "tf"
+        # where the poses come from, for the refusals (with TF: why the waiting image has none yet)
+        self.pose_from = "transform of the image's frame from TF" if self.require_pose else "camera/pose"
         self.state, self.goal, self.header = IDLE, None, None
         self.k, self.info_refused = None, None  # the latest camera_info, or why it was refused
         self.poses = deque(maxlen=200)          # (stamp, position, optical rotation)
         self.expect_poses = True                # until an image has waited in vain for its pose
-        self.require_pose = False               # an image without its measured pose is refused (TF)
-        self.pose_from = "camera/pose"          # where the poses come from, for the refusals
         self.pending, self.request = None, None  # Pending; the request's stamp
         self.unposed = None                     # why the view's latest image had no transform (TF)
         self.asked_at, self.tries = None, 0     # when the view was (last) asked for; how often
@@ -90,15 +76,15 @@ class Controller:
 
     def start(self, now, goal=None, frame="", object_size=0.0, max_views=0, sensing=None, time_budget=0.0):
         """A new object (~/reset, or a goal): ends the episode under way (canceled), asks the
-        first view. Empty/zero arguments keep the node's settings."""
+        first view. Empty/zero arguments keep the node's settings. The stop rule: it stops below
+        entropy_threshold (with a time budget: budget_entropy_threshold), after max_views, or
+        before the view that would overrun its budget (over_budget)."""
         self.budget = float(time_budget) or self.timing.time_budget
         out = [replace(end, replaced=True) for end in self.cancel(now)]
         if object_size:
             sensing = replace(sensing or self.core.sensing, object_size=float(object_size))
-        threshold = self.timing.budget_entropy_threshold if self.budget else self.default_threshold
-        self.core.episode.config = replace(self.core.episode.config, entropy_threshold=threshold,
-                                           max_views=int(max_views) or self.default_views)
-        self.core.reset(sensing=sensing)
+        self.core.reset(sensing=sensing, max_views=max_views,
+                        entropy_threshold=self.timing.budget_entropy_threshold if self.budget else None)
         self.frame = frame or self.default_frame
         self.goal, self.header, self.pending, self.request = goal, None, None, None
         self.started, self.paused_for, self.state = now, 0.0, WAITING
@@ -248,6 +234,10 @@ class Controller:
             return out + [self.end(now, self.core.time_out())]
         return out + self.check_view(now)
 
+    def transform_missing(self, why):
+        """TF cannot give the waiting image's transform yet (`why`): the refusal names it if none comes."""
+        self.pose_from = why
+
     def frame_missing(self, now, why):
         """TF has never had the episode's object frame (`why` says which): past pose_wait from
         the episode's start, it ends with no_frame."""
@@ -256,6 +246,11 @@ class Controller:
         self.pending = None
         return [Refuse("no_frame", f"{why} within pose_wait ({self.timing.pose_wait:g} s) of the episode's "
                                    f"start: it ends with no_frame"), self.end(now, self.core.so_far("no_frame"))]
+
+    def retime(self, timing, cost):
+        """Runtime parameters changed: the episode under way goes on with this timing and cost."""
+        self.timing, self.cost = timing, cost
+        return []
 
     def report(self, now, active=True, state="active"):
         """(level, message, values) of the loop for /diagnostics: its health, counts and timing."""
@@ -346,8 +341,8 @@ class Controller:
                 last = self.core.finish()  # the next view would overrun the budget: answer now
             ask = None if last is not None else self.ask(now)
             out += [ask] if ask is not None else []
-            out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now),
-                            self.goal))
+            out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now), self.goal,
+                            self.core.views_taken(), self.core.standoff(self.k), self.frame))
         if last is not None:
             out.append(self.end(now, last))
         return out

@@ -25,7 +25,8 @@ class AskView:
 
 @dataclass(frozen=True)
 class Step:
-    """Publish a classified image: its Observation, with the image's header and arrival."""
+    """Publish a classified image: its Observation, with the image's header and arrival, and the
+    views taken so far (recognition/views)."""
 
     obs: Any                 # recognizer.Observation
     header: Any              # the image's (the node's message header; opaque here)
@@ -34,6 +35,9 @@ class Step:
     travel: float            # radians turned about the object between the views so far
     elapsed: float           # seconds since the start, pauses not counted
     goal: Any
+    views: Any = ()          # (theta, phi) of each view taken so far
+    standoff: float = 0.0    # metres from the object's centre to the camera of the next view
+    frame: str = "object"    # the episode's object frame
 
 
 @dataclass(frozen=True)

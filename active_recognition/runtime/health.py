@@ -37,7 +37,6 @@ class Health:
         self.episodes = Counter()                 # episodes ended, by status
         self.last_frame = None
         self.episode_since = None                 # start of the episode under way, else None
-        self.error = None                         # why the node cannot work, else None
         self.unposed = (0, None, None)            # images in a row refused for want of a transform: (n, last time, why)
 
     def frame(self, now):
@@ -90,8 +89,6 @@ class Health:
         """(level, message): 'OK' / 'WARN' / 'ERROR' and why. Not active (lifecycle `state`),
         nothing is expected."""
         self.trim(now)
-        if self.error is not None:
-            return "ERROR", f"configure failed, no model loaded: {self.error}"
         if not active:
             return "OK", f"{state}: images are ignored"
         n, at, why = self.unposed
@@ -120,3 +117,10 @@ class Health:
                   "step latency p99 (ms)": float(np.percentile(ms, 99)) if len(ms) else "none"}
         values.update({f"episodes {status}": n for status, n in sorted(self.episodes.items())})
         return values
+
+
+def unconfigured(failure, state):
+    """(level, message, values) of a node with no loop: ERROR where configure failed (`failure`)."""
+    if failure is not None:
+        return "ERROR", f"configure failed, no model loaded: {failure}", {}
+    return "OK", f"{state}: images are ignored", {}
