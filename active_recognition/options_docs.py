@@ -69,7 +69,11 @@ def flag_rows(parser):
         default = "required" if action.required else "" if value in (None, []) else shown(value)
         check = leaf.check if leaf is not None else getattr(action.type, "check", None)
         allowed = "" if check is None or check.kind is bool else check.allowed()
-        text = (leaf.meta("help", "") if leaf is not None else action.help or "").replace("%%", "%")
+        changed = getattr(action, "changed", {})  # a tool's own choices or help (add_flags)
+        if "choices" in changed or check is None and action.choices:  # narrowed, or a plain flag's
+            allowed = "one of " + ", ".join(map(str, action.choices))
+        text = changed.get("help") or (leaf.meta("help", "") if leaf is not None else action.help or "")
+        text = text.replace("%%", "%")
         yield flag, default if leaf is None or leaf.check.kind is not bool else "", allowed, text
 
 

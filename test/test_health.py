@@ -11,7 +11,7 @@ import pytest
 from active_recognition.argument_checks import InputError
 from active_recognition.runtime.active_recognizer import ActiveRecognizer, least_top_score
 from active_recognition.runtime.health import Health, MIN_FRAMES, WINDOW_S, unconfigured
-from active_recognition.sensing import camera_input_bounds as plausible
+from active_recognition.sensing import camera_input_bounds
 from active_recognition.sensing.reach import ViewLimits
 from active_recognition.simulation.depth_sensor import SimulatedCamera
 
@@ -97,7 +97,7 @@ def test_the_label_info_threshold_at_the_ends():
 def test_a_camera_inside_the_objects_box_is_refused_by_name(position, centre):
     with pytest.raises(InputError, match=r"camera/pose pose.position .* inside the object's box "
                                          r"\(edge 1 m, the parameter object_size"):
-        plausible.check_outside_box(position, centre, 1.0)
+        camera_input_bounds.check_outside_box(position, centre, 1.0)
 
 
 @pytest.mark.parametrize("position,centre,size", [((0.0, -1.5, 0.3), (0, 0, 0), 1.0),
@@ -105,7 +105,7 @@ def test_a_camera_inside_the_objects_box_is_refused_by_name(position, centre):
                                                   ((0.0, 0.0, 0.3), (0, 0, 0.0), 0.5),
                                                   ((0.3, 0.0, 0.0), (-0.25, 0.0, 0.0), 1.0)])
 def test_a_camera_outside_the_box_passes(position, centre, size):
-    np.testing.assert_array_equal(plausible.check_outside_box(position, centre, size), position)
+    np.testing.assert_array_equal(camera_input_bounds.check_outside_box(position, centre, size), position)
 
 
 def test_an_episode_past_its_time_ends_with_timeout_and_the_best_guess_so_far():

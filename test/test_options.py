@@ -17,7 +17,7 @@ from active_recognition.options import command_options as co
 from active_recognition.options.camera_params import SimulatedCameraParameters
 from active_recognition.options.flags_and_parameters import leaves, parameters
 from active_recognition.options.recognizer_params import RecognizerParameters
-from active_recognition.options_docs import generated
+from active_recognition.options_docs import flag_rows, generated
 from active_recognition.sensing.reach import ViewLimits
 from active_recognition.training.train import TrainConfig, preset_config
 
@@ -144,3 +144,17 @@ def test_the_node_declares_each_parameter_with_its_description_range_and_read_on
             n.destroy_node()
     finally:
         rclpy.try_shutdown(context=ctx)
+
+
+def test_every_flag_with_choices_shows_the_choices_its_command_accepts():
+    """A command that narrows a shared option's choices (open-set-fit's --dataset) says so in
+    docs/options.md, and its help with them."""
+    for name, parser in COMMANDS.items():
+        rows = {row[0]: row for row in flag_rows(parser)}
+        for action in parser._actions:
+            if action.choices is not None and action.option_strings:
+                row = rows[", ".join(action.option_strings)]
+                shown = row[2].removeprefix("one of ").removesuffix(", or null").split(", ")
+                assert shown == [str(c) for c in action.choices], (name, row)
+    fit = {row[0]: row for row in flag_rows(COMMANDS["open-set-fit"])}
+    assert fit["--dataset"][1:] == ("modelnet", "one of procedural, modelnet", "the known objects' dataset")

@@ -18,7 +18,7 @@ from active_recognition.model.episode import Episode, EpisodeConfig
 from active_recognition.model.network import ModelConfig, RecurrentAttention
 from active_recognition.model.policies import make_planner
 from active_recognition.runtime.active_recognizer import ActiveRecognizer, SensingConfig
-from active_recognition.sensing import camera_input_bounds as plausible, geometry
+from active_recognition.sensing import camera_input_bounds, geometry
 from active_recognition.sensing.depth_layer import DepthCamera
 from active_recognition.sensing.reach import BLOCK_RADIUS, Reach, ViewLimits, angles_between
 from active_recognition.simulation.depth_sensor import SensorConfig, SimulatedCamera
@@ -175,7 +175,7 @@ def realsense():
 ])
 def test_implausible_intrinsics_are_refused_by_field(k, field):
     with pytest.raises(InputError, match=re_escape(field)):
-        plausible.check_intrinsics(k)
+        camera_input_bounds.check_intrinsics(k)
 
 
 def re_escape(text):
@@ -184,16 +184,16 @@ def re_escape(text):
 
 
 def test_real_cameras_pass_and_poses_and_stamps_are_bounded():
-    assert plausible.check_intrinsics(realsense()) == realsense()
+    assert camera_input_bounds.check_intrinsics(realsense()) == realsense()
     own = geometry.Intrinsics.from_fov(64, 64, math.radians(120))  # the model's own camera
-    assert plausible.check_intrinsics(own) == own
-    plausible.check_camera_position([0.0, -1.2, 0.4])
+    assert camera_input_bounds.check_intrinsics(own) == own
+    camera_input_bounds.check_camera_position([0.0, -1.2, 0.4])
     for far in ([1e6, 0, 0], [0, 0, 0]):
         with pytest.raises(InputError, match="pose.position is"):
-            plausible.check_camera_position(far)
-    assert plausible.check_clock(100.5, 100.0, 5.0) == 100.5
+            camera_input_bounds.check_camera_position(far)
+    assert camera_input_bounds.check_clock(100.5, 100.0, 5.0) == 100.5
     with pytest.raises(InputError, match=r"header.stamp is -3.6e\+03 s from this node's clock"):
-        plausible.check_clock(100.0, 3700.0, 5.0)
+        camera_input_bounds.check_clock(100.0, 3700.0, 5.0)
 
 
 def test_object_size_and_standoff_have_physical_bounds():

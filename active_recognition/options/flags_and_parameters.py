@@ -113,7 +113,8 @@ def flag_kwargs(leaf, unset):
 def add_flags(parser, cls, names=None, *, unset=False, **changes):
     """A flag for every option of `cls` that has one (or for those in `names`, in that order),
     each changed by `changes` ({name: argparse keywords}: a tool's own default, choices, help).
-    Each action keeps its option as `.option` (the generated reference reads it)."""
+    Each action keeps its option as `.option` and the changes as `.changed` (the generated
+    reference reads them)."""
     known = {leaf.name: leaf for leaf in leaves(cls)}
     chosen = [known[n] for n in names] if names else [
         leaf for leaf in known.values() if leaf.meta("flag") is not False]
@@ -127,7 +128,7 @@ def add_flags(parser, cls, names=None, *, unset=False, **changes):
         if "default" in change:  # a tool's own default, said in the help
             leaf = dataclasses.replace(leaf, default=change["default"])
         action = where.add_argument(flag_name(leaf), **{**flag_kwargs(leaf, unset), **change})
-        action.option = leaf
+        action.option, action.changed = leaf, change
     return parser
 
 

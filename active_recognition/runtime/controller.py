@@ -26,7 +26,7 @@ from active_recognition.runtime.health import Health
 from active_recognition.runtime.robot_time import RobotTime
 from active_recognition.runtime.timing import Timing
 from active_recognition.runtime.view_waits import ViewWaits
-from active_recognition.sensing import camera_input_bounds as plausible
+from active_recognition.sensing import camera_input_bounds
 from active_recognition.sensing.geometry import Intrinsics, travel
 
 IDLE, WAITING, CLASSIFYING, PAUSED, ENDED = "idle", "waiting", "classifying", "paused", "ended"
@@ -122,7 +122,7 @@ class Controller:
             self.k, self.info_refused = None, refused
             return [Refuse("depth/camera_info", f"camera_info refused: {refused}")]
         try:
-            self.k, self.info_refused = plausible.check_intrinsics(k), None
+            self.k, self.info_refused = camera_input_bounds.check_intrinsics(k), None
         except ValueError as e:
             return self.info(now, refused=str(e))
         return []
@@ -135,10 +135,10 @@ class Controller:
             if frame != self.frame:
                 raise InputError(f"camera/pose header.frame_id {frame!r} is not the object frame "
                                  f"{self.frame!r} (parameter frame_id, or the goal's object_frame)")
-            stamp = plausible.check_clock(stamp, now, self.timing.max_clock_offset, name)
-            plausible.check_camera_position(position, name)
+            stamp = camera_input_bounds.check_clock(stamp, now, self.timing.max_clock_offset, name)
+            camera_input_bounds.check_camera_position(position, name)
             size = self.core.sensing.object_size
-            plausible.check_outside_box(position, self.core.centre * size, size, name)
+            camera_input_bounds.check_outside_box(position, self.core.centre * size, size, name)
         except ValueError as e:
             if self.require_pose:  # the image waiting for it is refused by this name at pose_wait
                 self.pose_from = f"usable transform from TF (the one for its stamp was refused: {e})"
@@ -162,7 +162,7 @@ class Controller:
             self.counts["idle"] += 1
             return []
         try:
-            stamp = plausible.check_clock(stamp, now, self.timing.max_clock_offset)
+            stamp = camera_input_bounds.check_clock(stamp, now, self.timing.max_clock_offset)
         except InputError as e:
             return self.reject(now, str(e))
         # fresh: stamped at or after the request (1 us spared for the stamp's round trip)

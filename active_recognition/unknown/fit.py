@@ -3,7 +3,7 @@
 
 """Fit a model's `unknown` answer and store it in its checkpoint (the key `open_set`).
 
-The score (--score) is open_set's `prototype_mean` (the default): the running mean, over the views
+The score (--score) is scores.py's `prototype_mean` (the default): the running mean, over the views
 an episode has taken, of 1 - the largest cosine similarity of the step's recurrent state to a
 class mean of that step; or `energy_mean`, the running mean of each view's energy (-log sum exp
 of its logits), for a model whose training taught it to be unsure of objects of no known class
@@ -15,7 +15,7 @@ initial view, reading each object's size where the model has a size prior (as th
 use_size does by default; --no-size: from the images alone). The thresholds, one per number of views, are chosen on the
 known validation objects (the dataset's val split) under the recognizer's hold (hold_unknown: a
 confident answer waits while the score is above its step's threshold): cut after any number of
-views, no more than 1 - --known-rate of their episodes end `unknown` (open_set.held_thresholds;
+views, no more than 1 - --known-rate of their episodes end `unknown` (scores.held_thresholds;
 the default 0.97 rejects about 3 %, a margin below the 5 % the test split may lose). The
 unknowns' val styles (datasets/unknowns.py) are scored beside them and their share flagged kept
 in `fitted_on`; their test styles are never read. With --camera PRESET the val episodes, and
@@ -52,7 +52,7 @@ from active_recognition.model.episode import ROBOT
 from active_recognition.options.flags_and_parameters import add_flags
 from active_recognition.sensing.depth_layer import CameraConfig
 from active_recognition.simulation.depth_sensor import PRESETS
-from active_recognition.unknown import scores as open_set
+from active_recognition.unknown import scores
 from active_recognition.unknown.thresholds import OPEN_SET_SCORE, OPEN_SET_SCORES, checked_open_set
 
 FIT_OBJECTS = 600  # training objects whose states the means are fitted on
@@ -88,8 +88,8 @@ def running(score, states, logits, means):
     """(N, T) the running `score` of episodes' states (N, T, S) against `means`, or of their
     per-step logits (N, T, C) (energy_mean)."""
     if score == "energy_mean":
-        return open_set.running_mean(open_set.energy(logits))
-    return open_set.prototype_mean(states, means)
+        return scores.running_mean(scores.energy(logits))
+    return scores.prototype_mean(states, means)
 
 
 def scored(planner, model, shapes, objects, cfg, means, fixed_path=None, score=OPEN_SET_SCORE):
@@ -101,8 +101,8 @@ def scored(planner, model, shapes, objects, cfg, means, fixed_path=None, score=O
 def flagged(probs, running, entropy_threshold, thresholds):
     """(N,) bool: the episodes the recognizer's hold ends `unknown` (their score above their
     last step's threshold)."""
-    return open_set.answered_unknown(running, open_set.held_stops(probs, running, entropy_threshold, thresholds),
-                                     thresholds)
+    return scores.answered_unknown(running, scores.held_stops(probs, running, entropy_threshold, thresholds),
+                                   thresholds)
 
 
 def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, planner="auto", steps=10,
@@ -145,7 +145,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
         means, known, other, through, sizes = through_camera(path, planner, dataset, root, camera, steps, seed,
                                                              size, *groups, means, score)
     floor = -np.inf if score == "energy_mean" else 1e-6  # an energy may be of any sign
-    thresholds = plain = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
+    thresholds = plain = scores.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
     weight = 0.0
     if score == "energy_mean" and any(size_weights) and size and sizes is not None and model.size_prior is not None:
         weight, through["size_weights"] = choose_size_weight(model.size_prior, known, other, sizes,
@@ -153,7 +153,7 @@ def fit(path, dataset, root=None, objects=FIT_OBJECTS, known_rate=KNOWN_RATE, pl
         known = with_size(known, model.size_prior, sizes["known"], weight)
         other = with_size(other, model.size_prior, sizes["unknown"], weight)
         if weight:
-            thresholds = open_set.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
+            thresholds = scores.held_thresholds(*known, cfg.entropy_threshold, known_rate, floor)
     fitted_on = {"dataset": dataset, "planner": planner, "train_objects": int(n), "steps": int(steps),
                  "seed": int(seed), "size": bool(size), "known_rate": float(known_rate), "unknowns": unknowns,
                  "score": score,
@@ -173,7 +173,7 @@ def val_figures(known, unknown, entropy_threshold, thresholds):
     unknown: (probs, running score)."""
     return {"val_known_rejected": round(float(flagged(*known, entropy_threshold, thresholds).mean()), 4),
             "val_unknown_flagged": round(float(flagged(*unknown, entropy_threshold, thresholds).mean()), 4),
-            "val_auroc": round(open_set.auroc(known[1][:, -1], unknown[1][:, -1]), 4)}
+            "val_auroc": round(scores.auroc(known[1][:, -1], unknown[1][:, -1]), 4)}
 
 
 def with_size(group, prior, sizes, weight):
@@ -183,7 +183,7 @@ def with_size(group, prior, sizes, weight):
 
 
 def choose_size_weight(prior, known, unknown, sizes, entropy_threshold, known_rate, weights=SIZE_WEIGHTS):
-    """(weight, table): of `weights`, the weight of the size term (open_set.size_term: weight x the
+    """(weight, table): of `weights`, the weight of the size term (scores.size_term: weight x the
     size prior's surprise at each object's size, added to its running energy) under which the
     recognizer's hold, with thresholds fitted on the known val episodes at `known_rate`, ends the
     most val unknowns `unknown` (ties: the least weight); the table gives each weight's figures.
@@ -191,7 +191,7 @@ def choose_size_weight(prior, known, unknown, sizes, entropy_threshold, known_ra
     table, best = {}, None
     for w in sorted(weights):
         k, u = with_size(known, prior, sizes["known"], w), with_size(unknown, prior, sizes["unknown"], w)
-        thresholds = open_set.held_thresholds(*k, entropy_threshold, known_rate, -np.inf)
+        thresholds = scores.held_thresholds(*k, entropy_threshold, known_rate, -np.inf)
         table[str(w)] = row = val_figures(k, u, entropy_threshold, thresholds)
         if best is None or row["val_unknown_flagged"] > table[str(best)]["val_unknown_flagged"]:
             best = w
@@ -218,16 +218,16 @@ def through_camera(path, planner, dataset, root, preset, steps, seed, size, trai
                                   steps)
     labels = np.array([r.label for r in runs["train"][2]])
     candidates = {"camera": prototype_means(runs["train"][1], labels, len(train[0].classes)), "renders": rendered}
-    scored_by = {k: {g: (runs[g][0], open_set.prototype_mean(runs[g][1], m)) for g in ("known", "unknown")}
+    scored_by = {k: {g: (runs[g][0], scores.prototype_mean(runs[g][1], m)) for g in ("known", "unknown")}
                  for k, m in candidates.items()}
-    auroc = {k: open_set.auroc(v["known"][1][:, -1], v["unknown"][1][:, -1]) for k, v in scored_by.items()}
+    auroc = {k: scores.auroc(v["known"][1][:, -1], v["unknown"][1][:, -1]) for k, v in scored_by.items()}
     best = max(auroc, key=auroc.get)
     notes = {"means_from": best, "val_auroc_by_means": {k: round(v, 4) for k, v in auroc.items()},
              "train_objects_through_camera": len(runs["train"][2])}
     sizes = {g: np.array([r.size for r in runs[g][2]]) for g in ("known", "unknown")}
     if score == "energy_mean":  # each view's energy, as the recognizer took it
         return candidates[best], *(
-            (runs[g][0], open_set.running_mean(np.array([r.energies[:steps] for r in runs[g][2]])))
+            (runs[g][0], scores.running_mean(np.array([r.energies[:steps] for r in runs[g][2]])))
             for g in ("known", "unknown")), notes, sizes
     return candidates[best], scored_by[best]["known"], scored_by[best]["unknown"], notes, sizes
 
@@ -267,7 +267,7 @@ def add_fit_flags(ap):
         "a model trained with outliers)"))
     ap.add_argument("--size-weights", type=float, nargs="+", metavar="W", default=list(SIZE_WEIGHTS), help=(
         "energy_mean through a camera, with the objects' sizes: the weights of the size term "
-        "(open_set.size_term) tried on val, the one that flags the most val unknowns kept (default 0: no "
+        "(scores.size_term) tried on val, the one that flags the most val unknowns kept (default 0: no "
         f"size term; a grid: {' '.join(f'{w:g}' for w in SIZE_GRID)})"))
     ap.add_argument("--out", default=None, help="checkpoint to write (default: --checkpoint itself)")
     return ap
@@ -302,7 +302,7 @@ def recorded_rollout(name, model, shapes, objects, starts, cfg, chunk=100, fixed
     from active_recognition.evaluation.evaluate import rollout
     from active_recognition.model.episode import reads_mirror
 
-    rec = open_set.Recorder(model)
+    rec = scores.Recorder(model)
     with torch.no_grad():
         ro = rollout(name, model, shapes, objects, starts, cfg, chunk=chunk, fixed_path=fixed_path, forward=rec)
     return ro, rec.record(ro.probs, chunk, cfg.steps, reads_mirror(model))
