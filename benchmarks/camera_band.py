@@ -50,6 +50,7 @@ def main(argv=None):
     folder = results_dir("modelnet")
     ap.add_argument("--sphere", default=str(folder / "open_set.json"), help="open_set_auroc.py on the whole sphere")
     ap.add_argument("--band", default=str(folder / "open_set_band.json"), help="open_set_auroc.py --min-elevation 0")
+    # --camera and --out by hand: --camera is open_set_camera.py's JSON (not a preset); --out has a fixed default
     ap.add_argument("--camera", default=str(folder / "open_set_camera.json"), help="open_set_camera.py")
     ap.add_argument("--out", default=str(folder / "camera_band.json"), help="JSON ('' = none)")
     args = ap.parse_args(argv)

@@ -57,6 +57,7 @@ def main():
     add_flags(ap, EvalConfig, ["dataset", "root"])
     ap.add_argument("--epochs", type=int, default=15, help="classifier training epochs (as the evaluation's)")
     add_flags(ap, EvalConfig, ["objects", "seed"])
+    # --out by hand: no default file (written only when given)
     ap.add_argument("--out", default=None, help="also write the figures to this JSON file")
     args = ap.parse_args()
     with one_line_errors(ap):

@@ -29,7 +29,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import emit, one_line_errors
+from common import add_common_flags, emit, one_line_errors
 
 from active_recognition.datasets import GENERATED, open_splits
 
@@ -156,7 +156,7 @@ def main():
                     help="generated benchmarks: runs per figure (the median is kept)")
     ap.add_argument("--dataset", choices=FILE_DATASETS, default=None,
                     help="a dataset of mesh files to measure instead of the generated ones")
-    ap.add_argument("--root", default=None, help="the dataset's root folder")
+    add_common_flags(ap, "root")
     ap.add_argument("--cache-dir", default=None,
                     help="an empty folder for the conversion cache (default: a temporary one, "
                          "removed at the end)")

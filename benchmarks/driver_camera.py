@@ -37,7 +37,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import emit, one_line_errors, output, results_dir, show_object, stop_processes
+from common import add_common_flags, emit, one_line_errors, output, results_dir, show_object, stop_processes
 from pose_wait import cpu, tail, waits_ms
 
 CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
@@ -232,7 +232,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--dataset", default="procedural", choices=list(CHECKPOINT),
                     help="test objects shown (and the shipped model the recognizer loads)")
-    ap.add_argument("--root", default=None, help="the dataset's folder (modelnet)")
+    add_common_flags(ap, "root")
     ap.add_argument("--episodes", type=int, default=40, help="test objects (a seeded draw), one goal each")
     ap.add_argument("--seed", type=int, default=7, help="the objects shown and the camera's noise")
     ap.add_argument("--timeout", type=float, default=20.0, help="seconds a goal may take to answer")
@@ -242,8 +242,7 @@ def main(argv=None):
                     help="the camera's order: each pose before its image, or after it")
     ap.add_argument("--param", action="append", default=[], metavar="NAME:=VALUE",
                     help="a recognizer parameter besides the setup's (repeatable)")
-    ap.add_argument("--out", help="JSON of the figures (default the dataset's committed "
-                                  "driver_camera_<dataset>.json, which only a full run may write)")
+    add_common_flags(ap, "out", out="the dataset's committed driver_camera_<dataset>.json")
     ap.add_argument("--serve", action="store_true", help=argparse.SUPPRESS)  # the camera process
     ap.add_argument("--pose-first", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--log", default="", help=argparse.SUPPRESS)
@@ -280,7 +279,8 @@ def main(argv=None):
             result["runs"][f"{name}/{order}"] = {"load_average_1min": [load, os.getloadavg()[0]], **figs,
                                                  "diagnostics": diagnostics, "goals_detail": rows}
             print(summary(f"{name}/{order}", figs), flush=True)
-    write_json(Path(out), result)
+    if out:
+        write_json(Path(out), result)
     emit({"runs": {k: {f: v[f] for f in ("unanswered", "s_per_view", "node_wait_ms")}
                    for k, v in result["runs"].items()}})
 

@@ -29,14 +29,13 @@ import argparse
 
 import numpy as np
 import torch
-from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
+from common import add_common_flags, add_unknowns_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits
 from active_recognition.datasets.real_unknowns import near as is_near
 from active_recognition.evaluation.camera_episodes import camera_runs, recording_core
 from active_recognition.evaluation.report import write_json
 from active_recognition.model import checkpoint
-from active_recognition.simulation.depth_sensor import PRESETS
 from active_recognition.unknown import scores as open_set
 
 STEPS, AT, SEED = 10, (3, 6, 10), 1000
@@ -112,15 +111,16 @@ def paired_halves(known, unknown, base, other, folds, rng):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--root", required=True, help="ModelNet10's folder")
+    add_common_flags(ap, "root", root_required=True)
+    # --checkpoint by hand: its default names the shipped ensemble (EvalConfig's is None), which the JSON records
     ap.add_argument("--checkpoint", default="modelnet10.pt", help="an ensemble (python -m "
                     "active_recognition.training.write_ensemble; "
                     "default: the shipped modelnet10.pt, a judge beside a classifier)")
     ap.add_argument("--val-objects", type=int, default=0, help="the first N val objects of each group (0: all)")
-    ap.add_argument("--camera", default="realsense", choices=PRESETS, help="the simulated camera (default realsense)")
+    add_common_flags(ap, "camera")
     ap.add_argument("--folds", type=int, default=20, help="random halves for the weight of a second term")
     add_unknowns_flags(ap, default="real_unknowns")
-    ap.add_argument("--out", default=None, help="the JSON to write ('' = none; default: the committed one)")
+    add_common_flags(ap, "out", out="docs/results/modelnet10/member_scores.json")
     args = ap.parse_args(argv)
     if args.val_objects < 0 or args.folds < 1:
         ap.error(f"--val-objects must be 0 (all) or more and --folds at least 1, got {args.val_objects}, {args.folds}")

@@ -62,6 +62,7 @@ def main():
     ap.add_argument("--old-model", default=None, help="the old model file (default: from git)")
     ap.add_argument("--model", action="append", default=[], metavar="NAME=FILE",
                     help="another model to compare, e.g. canonical=runs/ship_canonical/final.pt")
+    # --out by hand: a fixed default, written by every run (no partial-run guard)
     ap.add_argument("--out", default=str(ROOT / "docs/results/old_vs_new.json"))
     args = ap.parse_args()
     with one_line_errors(ap):

@@ -32,7 +32,7 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from common import emit, one_line_errors, output, results_dir
+from common import add_common_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition.argument_checks import InputError
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
@@ -234,8 +234,7 @@ def main(argv=None):
                     help=f"covariance shrinkage toward the identity, in [0, 1] (default {open_set.SHRINK})")
     ap.add_argument("--known-rate", type=float, default=0.95,
                     help="share of known validation objects the operating point accepts (default 0.95)")
-    ap.add_argument("--out", default=None, help="JSON ('' = none; default docs/results/modelnet10/open_set.json "
-                                                "for modelnet; a partial run must give it)")
+    add_common_flags(ap, "out", out="docs/results/modelnet10/open_set.json for modelnet")
     args = ap.parse_args(argv)
     if not 0 < args.known_rate <= 1:
         ap.error(f"--known-rate must lie in (0, 1], got {args.known_rate}")

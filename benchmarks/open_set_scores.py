@@ -27,13 +27,12 @@ Writes docs/results/modelnet10/open_set_scores.json (a partial run must give --o
 import argparse
 
 import numpy as np
-from common import add_unknowns_flags, emit, one_line_errors, output, results_dir
+from common import add_common_flags, add_unknowns_flags, emit, one_line_errors, output, results_dir
 
 from active_recognition.datasets import default_cache_dir, open_dataset, open_splits, subset_with_every_class
 from active_recognition.evaluation.camera_episodes import camera_runs, full_length, recording_core
 from active_recognition.evaluation.report import write_json
 from active_recognition.model import checkpoint
-from active_recognition.simulation.depth_sensor import PRESETS
 from active_recognition.unknown import scores as open_set
 from active_recognition.unknown.fit import prototype_means
 
@@ -117,14 +116,15 @@ def recorded(core, ds, name, split, objects, preset, seed, root):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--root", required=True, help="ModelNet10's folder")
+    add_common_flags(ap, "root", root_required=True)
+    # --checkpoint by hand: its default names the shipped model (EvalConfig's is None), which the JSON records
     ap.add_argument("--checkpoint", default="modelnet10.pt", help="the model (default: the shipped one)")
     ap.add_argument("--objects", type=int, default=FIT_OBJECTS, help=f"training objects (default {FIT_OBJECTS})")
     ap.add_argument("--val-objects", type=int, default=0, help="seeded sample of the val objects, each group (0: all)")
-    ap.add_argument("--camera", default="realsense", choices=PRESETS, help="the simulated camera (default realsense)")
+    add_common_flags(ap, "camera")
     ap.add_argument("--seed", type=int, default=0)
     add_unknowns_flags(ap, default="real_unknowns")  # real meshes: a figure on generated ones is never the headline
-    ap.add_argument("--out", default=None, help="the JSON to write (default: the committed one)")
+    add_common_flags(ap, "out", out="docs/results/modelnet10/open_set_scores.json")
     args = ap.parse_args(argv)
     partial = [f for f, on in (("--checkpoint", args.checkpoint != "modelnet10.pt"),
                                ("--objects", args.objects != FIT_OBJECTS), ("--val-objects", args.val_objects),
@@ -155,7 +155,8 @@ def main(argv=None):
     result = {"checkpoint": str(args.checkpoint), "camera": args.camera, "unknowns": args.unknowns, "seed": args.seed,
               "objects": {g: int(len(v["states"])) for g, v in groups.items()},
               "scores": table(groups["known"], groups["unknown"])}
-    write_json(out, result)
+    if out:
+        write_json(out, result)
     for name, row in result["scores"].items():
         print(f"{name:26s} " + " | ".join(f"{t} views: " + ", ".join(f"{k} {v:.3f}" for k, v in fig.items())
                                           for t, fig in row.items()))

@@ -90,6 +90,7 @@ def main():
         objects={"help": "0: the whole test split; else a seeded sample of this many test objects, and as "
                          "many validation objects for the default (a partial run: give --out)"},
         starts={"default": 3})
+    # --out by hand: a folder, not a JSON file
     ap.add_argument("--out", default=None, help="report folder (default docs/results[/DATASET])")
     yaw = ("degrees: every object turned by its own seeded yaw within +-this (a detector's rough heading); "
            "results go to docs/results/<dataset>-yaw<N>")

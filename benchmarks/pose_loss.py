@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit, output
+from common import RESULTS, add_common_flags, emit, output
 from pose_wait import cpu
 
 VARIANTS = {"no_image": {}, "best_effort": {}, "best_effort_depth10": {}, "reliable_depth10": {},
@@ -150,7 +150,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--count", type=int, default=100, help="frames the writer sends (5 Hz)")
     ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
-    ap.add_argument("--out", help="JSON of the figures (default docs/results/pose_loss.json)")
+    add_common_flags(ap, "out", out="docs/results/pose_loss.json")
     ap.add_argument("--role", choices=("write", "read"), help=argparse.SUPPRESS)
     ap.add_argument("--variant", default="best_effort", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -175,7 +175,8 @@ def main(argv=None):
     result = {"cpu": model, "avx_flags": avx, "cpu_count": os.cpu_count(), "count": args.count,
               "writer": "info, pose, then a 640x480 16UC1 image at 5 Hz; default QoS; Fast DDS defaults",
               "runs": runs}
-    write_json(Path(out), result)
+    if out:
+        write_json(Path(out), result)
     emit(result)
 
 

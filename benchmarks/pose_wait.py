@@ -28,7 +28,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit, output, show_object, stop_processes
+from common import RESULTS, add_common_flags, emit, output, show_object, stop_processes
 
 from active_recognition.runtime.controller import Timing
 
@@ -201,8 +201,7 @@ def main(argv=None):
                     help="the recognizer's pose_wait (s): long, so that the whole tail is seen")
     ap.add_argument("--sources", nargs="+", default=list(SETUPS), choices=list(SETUPS),
                     help="pose_source values to run")
-    ap.add_argument("--out", help="JSON of the figures (default docs/results/pose_wait.json, "
-                                  "the committed figures, which only a full run may write)")
+    add_common_flags(ap, "out", out="docs/results/pose_wait.json")
     args = ap.parse_args(argv)
     from active_recognition.argument_checks import SEED_MAX
     from active_recognition.datasets import default_cache_dir, open_dataset
@@ -244,7 +243,8 @@ def main(argv=None):
                 print(line(source, result[source]), flush=True)
         finally:
             stop_processes(list(procs.values()))
-    write_json(Path(out), result)
+    if out:
+        write_json(Path(out), result)
     emit(result)
 
 

@@ -383,6 +383,7 @@ BUILDERS = {
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--results", default=ROOT / "docs/results", help="benchmark output folder")
+    # --out by hand: a Markdown page, not a JSON file
     parser.add_argument("--out", default=ROOT / "docs/RESULTS.md", help="the page to write")
     args = parser.parse_args(argv)
     write_results_page(args.out, args.results)

@@ -117,6 +117,7 @@ def main(argv=None):
     add_flags(ap, DemoOptions, ["seed"])
     ap.add_argument("--cameras", nargs="*", default=list(CAMERAS), choices=list(CAMERAS))
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds an episode may take")
+    # --out by hand: a fixed default, written by every run (no partial-run guard)
     ap.add_argument("--out", default=str(ROOT / "docs/results/robot_loop.json"),
                     help="JSON to write ('' = none)")
     args = ap.parse_args(argv)

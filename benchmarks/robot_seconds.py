@@ -169,6 +169,7 @@ def main():
     ap.add_argument("--budget-entropy", type=float, default=None, metavar="NATS",
                     help="within a budget the added episodes stop at this entropy, as the node does with a "
                          "time budget (its budget_entropy_threshold); default: where their stop rule stopped")
+    # --out by hand: a fixed default, written by every run (no partial-run guard)
     ap.add_argument("--out", default=str(RESULTS / "modelnet10" / "robot_seconds.json"), help="JSON of the figures")
     args = ap.parse_args()
     with one_line_errors(ap):

@@ -193,6 +193,7 @@ def main():
                     help="episodes at 640x480 and at 1280x720")
     ap.add_argument("--publish", type=float, default=0.0,
                     help="(the camera's process) publish 640x480 frames for this many seconds")
+    # --out by hand: a fixed default, written by every run (no partial-run guard)
     ap.add_argument("--out", default=str(RESULTS / "ros_latency.json"), help="JSON of the figures")
     args = ap.parse_args()
     if args.publish:

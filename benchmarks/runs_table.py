@@ -16,7 +16,7 @@ Writes docs/results/<study>.json and re-renders docs/RESULTS.md. Last line is JS
 import argparse
 from pathlib import Path
 
-from common import emit
+from common import add_common_flags, emit
 from results_page import write_results_page
 
 from active_recognition.evaluation.evaluate import compare_runs
@@ -32,8 +32,8 @@ def main():
     ap.add_argument("study", choices=sorted(VIEWS))
     ap.add_argument("runs", nargs="+", metavar="LABEL=RUN_DIR",
                     help="a label and a run folder holding final.pt, e.g. hidden_64=runs/ablation_hidden_64")
-    ap.add_argument("--starts", type=int, default=3, help="seeded initial views per test object")
-    ap.add_argument("--out", default=str(ROOT / "docs/results"))
+    add_common_flags(ap, "starts", starts=3, starts_help="seeded initial views per test object")
+    ap.add_argument("--out", default=str(ROOT / "docs/results"))  # by hand: a folder, not a JSON file
     args = ap.parse_args()
     runs = {}
     for item in args.runs:

@@ -31,19 +31,17 @@ from pathlib import Path
 
 import numpy as np
 import torch
-from common import emit, one_line_errors, output, results_dir
+from common import add_common_flags, emit, one_line_errors, output, results_dir
 from robot_seconds import BUDGETS, spent, taken_within
 
 from active_recognition.datasets import default_cache_dir, open_splits
 from active_recognition.evaluation.camera_episodes import camera_runs, recording_core
-from active_recognition.evaluation.evaluate import EvalConfig, object_standard_error
+from active_recognition.evaluation.evaluate import object_standard_error
 from active_recognition.evaluation.report import write_json
 from active_recognition.model import checkpoint
 from active_recognition.model.episode import EpisodeConfig, entropy
-from active_recognition.options.flags_and_parameters import add_flags
 from active_recognition.runtime.robot_time import RobotTime
 from active_recognition.sensing.geometry import travel
-from active_recognition.simulation.depth_sensor import PRESETS
 
 STEPS, CUTS, CHOOSE_BY = 10, (3, 6, 9), (4.0, 8.0, 12.0)
 COSTS, THRESHOLDS, STARTS, SEED = (0.0, 0.5, 1.0, 2.0, 4.0), (0.1, 0.2, 0.3, 0.5, 0.7), 1, 1000
@@ -164,15 +162,13 @@ def run(ap, args):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    add_flags(ap, EvalConfig, ["root", "checkpoint"], root={"required": True})
+    add_common_flags(ap, "root", "checkpoint", root_required=True)
     ap.add_argument("--costs", nargs="+", type=float, default=list(COSTS), help="imitation's travel costs")
     ap.add_argument("--planners", nargs="*", default=[], help="other planners to set beside them")
     ap.add_argument("--thresholds", nargs="+", type=float, default=list(THRESHOLDS), help="stop rules to apply")
-    ap.add_argument("--starts", type=int, default=STARTS, help=f"seeded starts per val object (default {STARTS})")
+    add_common_flags(ap, "starts", starts=STARTS, starts_help="seeded starts per val object")
     ap.add_argument("--objects", type=int, default=0, help="the first N val objects (0: all)")
-    ap.add_argument("--camera", default="realsense", choices=sorted(PRESETS), help="the simulated camera's preset")
-    ap.add_argument("--out", default=None, help="JSON to write ('' = none; default "
-                    "docs/results/modelnet10/seconds_validation.json; a partial run must give it)")
+    add_common_flags(ap, "camera", "out", out="docs/results/modelnet10/seconds_validation.json")
     args = ap.parse_args(argv)
     args.costs = [float(c) for c in args.costs]
     with one_line_errors(ap):

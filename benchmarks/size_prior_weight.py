@@ -54,6 +54,7 @@ def main():
         "required": True, "help": "ModelNet10 root folder"}, checkpoint={"help": "model file (default: modelnet10.pt)"},
         planners={"default": ("random", "straight", "imitation")}, starts={"default": 3})
     ap.add_argument("--write", action="store_true", help="store the chosen prior in the checkpoint")
+    # --out by hand: its default follows --checkpoint (no partial-run guard)
     ap.add_argument("--out", default=None, help="JSON (default: docs/results/modelnet10/size_prior[_SUFFIX].json for "
                                                 "the shipped modelnet10[_SUFFIX].pt, else "
                                                 "CHECKPOINT_size_prior.json)")

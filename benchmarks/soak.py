@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, emit, output, show_object, stop_processes
+from common import RESULTS, add_common_flags, emit, output, show_object, stop_processes
 from pose_wait import camera_params, cpu, objects, ros_args, tail
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -162,7 +162,7 @@ def main(argv=None):
     ap.add_argument("--kill-every", type=int, default=100, help="the camera killed once in this many goals")
     ap.add_argument("--goal-timeout", type=float, default=120.0, help="seconds a goal may take to answer")
     ap.add_argument("--no-load", action="store_true", help="no tools/load.sh beside it")
-    ap.add_argument("--out", help="JSON of the figures (default docs/results/soak.json, a full run's)")
+    add_common_flags(ap, "out", out="docs/results/soak.json")
     args = ap.parse_args(argv)
     if not 1 <= args.goals <= 100000:
         ap.error(f"--goals must be 1..100000, got {args.goals}")
@@ -238,7 +238,8 @@ def main(argv=None):
               "640x480, reliable, Fast DDS defaults, TF 0-300 ms late, a tenth of requests unanswered",
               "tf_delays_s": delays, "seconds": seconds, **figures(records, usage_at, diagnostics, shown),
               "records": records}
-    write_json(Path(out), result)
+    if out:
+        write_json(Path(out), result)
     emit({k: v for k, v in result.items() if k != "records"})
 
 

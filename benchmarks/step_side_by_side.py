@@ -67,6 +67,7 @@ def main():
     which.add_argument("--checkpoints", nargs=2, metavar=("A", "B"), help="model A against model B, this checkout")
     ap.add_argument("--runs", type=int, default=3, help="runs of each, alternating")
     ap.add_argument("--episodes", type=int, default=10, help="10-view episodes a run")
+    # --out by hand: no default file (written only when given)
     ap.add_argument("--out", help="JSON of the figures")
     args = ap.parse_args()
     base = Path(args.base).resolve() if args.base else ROOT

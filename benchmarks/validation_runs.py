@@ -25,6 +25,7 @@ def main():
     add_flags(ap, EvalConfig, ["dataset", "root", "objects", "starts", "planners", "readout", "min_elevation",
                                "yaw"], dataset={"default": "modelnet"}, objects={"default": 352},
               starts={"default": 2}, planners={"default": ("learned", "random", "straight", "imitation")})
+    # --out by hand: a JSON added to, its default the dataset's (no partial-run guard)
     ap.add_argument("--out", default=None, help="JSON to add to (default: the dataset's "
                                                 "docs/results/<folder>/validation.json)")
     args = ap.parse_args()
