@@ -6,6 +6,7 @@ of repeated timings, the last-line JSON, where each dataset's results go, the co
 line, not a traceback, for bad input, the recognizer's parameter for a shipped model, and stopping node
 processes."""
 import json
+import os
 import subprocess
 import time
 import warnings
@@ -23,6 +24,18 @@ from active_recognition.simulation.depth_sensor import PRESETS
 
 RESULTS = Path(__file__).resolve().parents[1] / "docs/results"
 FOLDER = {"procedural": "", "twins": "twins", "modelnet": "modelnet10"}  # under docs/results
+
+
+# A benchmark's own DDS domain when ROS_DOMAIN_ID is unset: above the test suite's (1-90,
+# test/conftest.py), so a benchmark run beside the tests hears none of their nodes.
+DOMAINS = (101, 200)
+
+
+def private_domain(rng=None):
+    """Set ROS_DOMAIN_ID to a random one of DOMAINS unless it is set; return it."""
+    rng = np.random.default_rng() if rng is None else rng
+    os.environ.setdefault("ROS_DOMAIN_ID", str(int(rng.integers(DOMAINS[0], DOMAINS[1] + 1))))
+    return int(os.environ["ROS_DOMAIN_ID"])
 
 
 def results_dir(dataset):

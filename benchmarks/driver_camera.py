@@ -37,7 +37,8 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import add_common_flags, emit, one_line_errors, output, results_dir, show_object, stop_processes
+from common import (
+    add_common_flags, emit, one_line_errors, output, private_domain, results_dir, show_object, stop_processes)
 from pose_wait import cpu, tail, waits_ms
 
 CHECKPOINT = {"procedural": "procedural.pt", "modelnet": "modelnet10.pt"}
@@ -256,7 +257,7 @@ def main(argv=None):
                                     ("--setups", args.setups != list(SETUPS)),
                                     ("--orders", args.orders != list(ORDERS))) if changed]
     out = output(ap, args.out, results_dir(args.dataset) / f"driver_camera_{args.dataset}.json", partial)
-    os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
+    private_domain()
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.evaluation.report import write_json
 

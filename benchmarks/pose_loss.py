@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, add_common_flags, emit, output
+from common import RESULTS, add_common_flags, emit, output, private_domain
 from pose_wait import cpu
 
 VARIANTS = {"no_image": {}, "best_effort": {}, "best_effort_depth10": {}, "reliable_depth10": {},
@@ -162,7 +162,7 @@ def main(argv=None):
         return read(args.count, args.variant)
     partial = [f for f, c in (("--count", args.count != 100), ("--variants", args.variants != list(VARIANTS))) if c]
     out = output(ap, args.out, RESULTS / "pose_loss.json", partial)
-    os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
+    private_domain()
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     model, avx = cpu()
     runs = {}

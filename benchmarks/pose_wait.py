@@ -28,7 +28,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, add_common_flags, emit, output, show_object, stop_processes
+from common import RESULTS, add_common_flags, emit, output, private_domain, show_object, stop_processes
 
 from active_recognition.runtime.controller import Timing
 
@@ -219,7 +219,7 @@ def main(argv=None):
         ("--pose-wait", args.pose_wait != 10.0), ("--sources", args.sources != list(SETUPS)),
         ("FASTRTPS_DEFAULT_PROFILES_FILE", bool(profile))) if changed]
     out = output(ap, args.out, RESULTS / "pose_wait.json", partial)
-    os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
+    private_domain()
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.evaluation.report import write_json
 

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from common import emit, shipped_checkpoint, stop_processes
+from common import emit, private_domain, shipped_checkpoint, stop_processes
 
 from active_recognition.evaluation.report import write_json
 from active_recognition.options.command_options import DemoOptions
@@ -121,7 +121,7 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "docs/results/robot_loop.json"),
                     help="JSON to write ('' = none)")
     args = ap.parse_args(argv)
-    os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
+    private_domain()
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.datasets import default_cache_dir, open_dataset
     n = len(open_dataset("procedural", split="test", cache_dir=default_cache_dir()))

@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import RESULTS, add_common_flags, emit, output, show_object, stop_processes
+from common import RESULTS, add_common_flags, emit, output, private_domain, show_object, stop_processes
 from pose_wait import camera_params, cpu, objects, ros_args, tail
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -171,7 +171,7 @@ def main(argv=None):
     partial = [f for f, c in (("--goals", args.goals != 1000), ("--seed", args.seed != 0),
                               ("--no-load", args.no_load), ("--kill-every", args.kill_every != 100)) if c]
     out = output(ap, args.out, RESULTS / "soak.json", partial)
-    os.environ.setdefault("ROS_DOMAIN_ID", str(np.random.default_rng().integers(1, 100)))
+    private_domain()
     os.environ.setdefault("ROS_AUTOMATIC_DISCOVERY_RANGE", "LOCALHOST")
     from active_recognition.datasets import default_cache_dir, open_dataset
     from active_recognition.evaluation.report import write_json

@@ -4,11 +4,13 @@
 """The benchmarks that write tables (planners.py, camera_robustness.py and others) as a user runs them: bad input ends
 in one line naming the thing and the reason, before any long work; a partial run never
 overwrites the committed figures; a checkpoint's error crosses a process pool whole."""
+import os
 import pickle
 import sys
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import load_benchmark, run_side_by_side
 
@@ -213,3 +215,14 @@ def test_planners_ship_refuses_a_modelnet_model_that_records_no_default(tmp_path
     planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=True, dataset="modelnet"), str(recorded))
     planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=False, dataset="modelnet"), str(bare))
     planners_py.refuse_unrecorded_default(ap, SimpleNamespace(ship=True, dataset="procedural"), str(bare))
+
+
+def test_a_benchmark_takes_a_dds_domain_above_the_test_suites_unless_one_is_set(monkeypatch):
+    common = load_benchmark("common")
+    taken = set()
+    for seed in range(40):
+        monkeypatch.delenv("ROS_DOMAIN_ID", raising=False)
+        taken.add(common.private_domain(np.random.default_rng(seed)))
+    assert min(taken) >= 101 and max(taken) <= 200 and len(taken) > 20  # test/conftest.py's are 1-90
+    monkeypatch.setenv("ROS_DOMAIN_ID", "7")
+    assert common.private_domain() == 7 and os.environ["ROS_DOMAIN_ID"] == "7"
