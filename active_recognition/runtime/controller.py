@@ -5,13 +5,14 @@
 
 Events: an image, a camera_info, a pose, a tick of the node's timer, a start (~/reset, a goal),
 a cancel, a pause and a resume (its lifecycle), new timing (retime), TF's word on a missing
-transform or object frame. It is configured by its constructor and changed by events alone. Commands: ask for a view (`next_view`), publish a
-step (an image's classification), end an episode with its status, refuse an input with its
-reason. Times are the caller's clock in seconds (the node's ROS clock, that of the stamps; a
-test's simulated one). States: idle, waiting (a view asked for), classifying (an image waits for
-its pose), paused (the node inactive), ended. An unanswered request is sent again max_retries
-times, then its view is given up for another (no view left: no_image); an episode still under
-way episode_timeout after its start (pauses not counted) ends with timeout."""
+transform or object frame. It is configured by its constructor and changed by events alone.
+Commands: ask for a view (`next_view`), publish a step (an image's classification), end an
+episode with its status, refuse an input with its reason. Times are the caller's clock in
+seconds (the node's ROS clock, that of the stamps; a test's simulated one). States: idle,
+waiting (a view asked for), classifying (an image waits for its pose), paused (the node
+inactive), ended. An unanswered request is sent again max_retries times, then its view is given
+up for another (no view left: no_image); an episode still under way episode_timeout after its
+start (pauses not counted) ends with timeout."""
 from __future__ import annotations
 
 import time
