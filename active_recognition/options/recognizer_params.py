@@ -18,8 +18,8 @@ from dataclasses import dataclass, fields, replace
 from active_recognition.argument_checks import InputError, SEED_MAX, checks, nested, option, validate
 from active_recognition.model.episode import EpisodeConfig, ROBOT
 from active_recognition.runtime.active_recognizer import NODE_PLANNERS, SensingConfig
-from active_recognition.runtime.controller import Timing
 from active_recognition.runtime.robot_time import RobotTime
+from active_recognition.runtime.timing import Timing
 from active_recognition.sensing.reach import ViewLimits
 
 QOS_MODES = ("auto", "reliable", "sensor_data")
