@@ -11,6 +11,7 @@ from conftest import sure_or_not
 
 from active_recognition.argument_checks import InputError
 from active_recognition.model.checkpoint import shipped
+from active_recognition.model.episode import EpisodeConfig
 from active_recognition.runtime.active_recognizer import ActiveRecognizer
 from active_recognition.runtime.controller import AskView, Controller, End, Timing
 from active_recognition.runtime.controller_commands import Step
@@ -86,8 +87,8 @@ def test_an_unreachable_view_is_not_replaced_by_one_the_budget_cannot_pay_for(ca
 def test_a_budget_brings_its_own_stop_rule_and_an_episode_without_one_the_nodes(camera):
     """With a time budget the episode stops at budget_entropy_threshold, without one at the
     node's entropy_threshold: each episode's stop is the one its start asked for."""
-    core = ActiveRecognizer(str(shipped("procedural")))
-    core.episode.config.entropy_threshold = 1.0  # this object: 4 views (entropy 1.15 at the first)
+    # the node's entropy_threshold 1.0: this object takes 4 views (entropy 1.15 at the first)
+    core = ActiveRecognizer(str(shipped("procedural")), EpisodeConfig(entropy_threshold=1.0))
     loop = Controller(core, Timing(pose_wait=0.05, budget_entropy_threshold=0.02))
     stops, views = [], []
     for budget in (30.0, 0.0, 30.0):
