@@ -343,8 +343,9 @@ class Controller:
                 last = self.core.finish()  # the next view would overrun the budget: answer now
             ask = None if last is not None else self.ask(now)
             out += [ask] if ask is not None else []
-            out.append(Step(obs, p.header, p.arrived, ask, self.travel(), self.elapsed(now), self.goal,
-                            self.core.views_taken(), self.core.standoff(self.k), self.frame))
+            taken = self.core.views_taken()  # once: its travel and recognition/views' markers
+            out.append(Step(obs, p.header, p.arrived, ask, travel(taken), self.elapsed(now), self.goal,
+                            taken, self.core.standoff(self.k), self.frame))
         if last is not None:
             out.append(self.end(now, last))
         return out
